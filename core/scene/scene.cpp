@@ -1,0 +1,54 @@
+#include "scene/scene.h"
+
+#include <algorithm>
+
+namespace epi {
+
+uint32_t Mesh::material_of(uint32_t triangle) const {
+  auto it = std::upper_bound(materials.begin(), materials.end(), triangle,
+                             [](uint32_t t, const MaterialRange& r) { return t < r.first_triangle; });
+  return it == materials.begin() ? 0 : std::prev(it)->material;
+}
+
+size_t Mesh::memory_bytes() const {
+  return positions.capacity() * sizeof(glm::vec3) + triangles.capacity() * sizeof(glm::uvec3) +
+         normals.capacity() * sizeof(glm::vec3) + materials.capacity() * sizeof(MaterialRange);
+}
+
+size_t AreaLight::memory_bytes() const {
+  size_t bytes = triangle_vertices.capacity() * sizeof(glm::vec3) +
+                 triangle_materials.capacity() * sizeof(uint32_t) + triangle_cdf.capacity() * sizeof(float);
+  for (const auto& loop : outlines) bytes += loop.capacity() * sizeof(glm::vec3);
+  return bytes;
+}
+
+size_t Scene::triangle_count() const {
+  size_t n = 0;
+  for (const Object& o : objects) n += meshes[o.mesh].triangles.size();
+  return n;
+}
+
+Bounds Scene::world_bounds() const {
+  Bounds b;
+  for (const Object& o : objects)
+    for (const glm::vec3& p : meshes[o.mesh].positions) b.extend(glm::vec3(o.object_to_world * glm::vec4(p, 1.0f)));
+  return b;
+}
+
+std::vector<MemoryItem> Scene::memory() const {
+  std::vector<MemoryItem> items;
+  size_t mesh_bytes = 0;
+  for (const Mesh& m : meshes) mesh_bytes += m.memory_bytes();
+  items.push_back({"meshes", mesh_bytes});
+  items.push_back({"objects", objects.capacity() * sizeof(Object)});
+  items.push_back({"materials", materials.capacity() * sizeof(Material)});
+  if (!punctual_lights.empty()) items.push_back({"punctual lights", punctual_lights.capacity() * sizeof(PunctualLight)});
+  if (!area_lights.empty()) {
+    size_t bytes = 0;
+    for (const AreaLight& l : area_lights) bytes += l.memory_bytes();
+    items.push_back({"area lights", bytes});
+  }
+  return items;
+}
+
+}  // namespace epi
