@@ -1,0 +1,71 @@
+// The `epi` subcommands. cli/main.cpp (CLI11, the only file that includes it) parses the
+// command line into these structs and calls run_*; each run_* lives in its own file and
+// returns the process exit code. Errors are thrown as exceptions whose what() is one line
+// naming the file and the problem; main prints "epi: <what>" and exits 1.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace epi::cli {
+
+struct CameraOverride {
+  std::optional<glm::vec3> eye, target, up;
+  std::optional<float> fov_degrees;
+};
+
+struct InfoOptions {
+  std::string scene;
+  int subdiv_level = -1;  // -1: as the scene says
+};
+int run_info(const InfoOptions& options);
+
+struct RenderOptions {
+  std::string scene;
+  std::string mode = "reference";  // reference | raytrace (epi | rendercache come with the frame loop)
+  int width = 512, height = 512;
+  int spp = 64;
+  std::string shader = "direct";  // direct | glossy | gi
+  uint64_t seed = 1;
+  int threads = 0;  // 0: all cores
+  std::string output = "out.png";
+  std::string stats;  // JSON file, empty: none
+  bool quiet = false;
+  int subdiv_level = -1;
+  CameraOverride camera;
+};
+int run_render(const RenderOptions& options);
+
+// The 2D harness of core/epi (issue 3).
+struct ReconstructOptions {
+  std::string pattern;  // PATTERN.json
+  double density = 0.1;
+  std::string filter = "epi";  // epi | rendercache
+  uint64_t seed = 1;
+  bool antialias = true;
+  bool complex_filter = true;
+  std::string output;
+  std::string stats;
+  int threads = 0;
+  bool quiet = false;
+};
+int run_reconstruct(const ReconstructOptions& options);
+
+// The edge finder on its own (issue 4).
+struct EdgesOptions {
+  std::string scene;
+  CameraOverride camera;
+  int width = 512, height = 512;  // for the SVG projection
+  std::string output;             // OUT.json
+  std::string svg;
+  std::string stats;
+  int subdiv_level = -1;
+  int threads = 0;
+};
+int run_edges(const EdgesOptions& options);
+
+}  // namespace epi::cli
