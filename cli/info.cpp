@@ -1,0 +1,75 @@
+// `epi info SCENE`: what the scene holds and what was built for it.
+#include <cstdio>
+
+#include "commands.h"
+#include "load_scene.h"
+#include "scene/topology.h"
+
+namespace epi::cli {
+
+namespace {
+
+std::string format_bytes(size_t bytes) {
+  char text[64];
+  if (bytes >= (size_t(1) << 20))
+    std::snprintf(text, sizeof text, "%.2f MiB", double(bytes) / double(1 << 20));
+  else
+    std::snprintf(text, sizeof text, "%.1f KiB", double(bytes) / 1024.0);
+  return text;
+}
+
+}  // namespace
+
+int run_info(const InfoOptions& options) {
+  LoadOptions load_options;
+  load_options.subdiv_level_override = options.subdiv_level;
+  const Scene scene = load_scene(options.scene, load_options);
+
+  size_t unique_edges = 0, border_edges = 0, non_manifold_edges = 0, welded_vertices = 0, edge_bytes = 0;
+  int subdivided = 0;
+  for (const Mesh& mesh : scene.meshes) {
+    const EdgeTable table = build_edge_table(mesh);
+    unique_edges += table.edges.size();
+    border_edges += table.border_edges;
+    non_manifold_edges += table.non_manifold_edges;
+    welded_vertices += table.weld.positions.size();
+    edge_bytes += table.memory_bytes();
+    subdivided += mesh.subdivided ? 1 : 0;
+  }
+  int by_type[4] = {0, 0, 0, 0};
+  for (const PunctualLight& light : scene.punctual_lights) by_type[int(light.type)]++;
+
+  std::printf("scene: %s\n", scene.source.c_str());
+  std::printf("objects: %zu\n", scene.objects.size());
+  std::printf("meshes: %zu (subdivided: %d)\n", scene.meshes.size(), subdivided);
+  std::printf("materials: %zu\n", scene.materials.size());
+  std::printf("triangles: %zu\n", scene.triangle_count());
+  std::printf("welded vertices: %zu\n", welded_vertices);
+  std::printf("unique edges: %zu\n", unique_edges);
+  std::printf("border edges: %zu\n", border_edges);
+  std::printf("non-manifold edges: %zu\n", non_manifold_edges);
+  std::printf("lights: %zu (point %d, spot %d, directional %d, area %zu)\n",
+              scene.punctual_lights.size() + scene.area_lights.size(), by_type[int(LightType::point)],
+              by_type[int(LightType::spot)], by_type[int(LightType::directional)], scene.area_lights.size());
+  std::printf("cameras: %zu\n", scene.cameras.size());
+  std::printf("camera path keys: %zu\n", scene.camera_path.size());
+  const Bounds bounds = scene.world_bounds();
+  std::printf("bounds: [%g, %g, %g] - [%g, %g, %g]\n", bounds.min.x, bounds.min.y, bounds.min.z, bounds.max.x,
+              bounds.max.y, bounds.max.z);
+  for (const Object& object : scene.objects) {
+    const Mesh& mesh = scene.meshes[object.mesh];
+    std::printf("  object '%s': mesh '%s', %zu triangles%s\n", object.name.c_str(), mesh.name.c_str(),
+                mesh.triangles.size(),
+                mesh.subdivided ? (", subdivided to level " + std::to_string(mesh.subdivision.level)).c_str() : "");
+  }
+  std::printf("memory:\n");
+  for (const MemoryItem& item : scene.memory()) std::printf("  %s: %s\n", item.name.c_str(), format_bytes(item.bytes).c_str());
+  std::printf("  edge tables: %s\n", format_bytes(edge_bytes).c_str());
+  if (!scene.repairs.empty()) {
+    std::printf("repairs:\n");
+    for (const std::string& line : scene.repairs) std::printf("  %s\n", line.c_str());
+  }
+  return 0;
+}
+
+}  // namespace epi::cli
