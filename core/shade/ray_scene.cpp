@@ -1,0 +1,212 @@
+#include "shade/ray_scene.h"
+
+#include <xmmintrin.h>
+
+#include <stdexcept>
+#include <string>
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include "shade/brdf.h"
+#include "shade/lights.h"
+
+namespace epi {
+
+namespace {
+
+std::string scene_label(const Scene& scene) { return scene.source.empty() ? "scene" : scene.source; }
+
+bool monitor_memory(void* user, ssize_t bytes, bool /*post*/) {
+  static_cast<std::atomic<int64_t>*>(user)->fetch_add(int64_t(bytes), std::memory_order_relaxed);
+  return true;
+}
+
+void check_device(RTCDevice device, const Scene& scene, const std::string& what) {
+  RTCError error = rtcGetDeviceError(device);
+  if (error != RTC_ERROR_NONE)
+    throw std::runtime_error(scene_label(scene) + ": Embree failed to " + what + " (error " + std::to_string(int(error)) + ")");
+}
+
+}  // namespace
+
+FlushDenormals::FlushDenormals() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040u); }  // FTZ | DAZ
+FlushDenormals::~FlushDenormals() { _mm_setcsr(saved_); }
+
+RayScene::RayScene(const Scene& scene) : scene_(scene) {
+  const std::string label = scene_label(scene);
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    for (size_t t = 0; t < mesh.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        if (mesh.triangles[t][k] >= mesh.positions.size())
+          throw std::runtime_error(label + ": mesh '" + mesh.name + "' triangle " + std::to_string(t) +
+                                   " has a vertex index out of range");
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+      throw std::runtime_error(label + ": mesh '" + mesh.name + "' has " + std::to_string(mesh.normals.size()) +
+                               " normals for " + std::to_string(mesh.positions.size()) + " positions");
+    for (const MaterialRange& r : mesh.materials)
+      if (r.material >= scene.materials.size())
+        throw std::runtime_error(label + ": mesh '" + mesh.name + "' uses material " + std::to_string(r.material) +
+                                 " of " + std::to_string(scene.materials.size()));
+  }
+  for (size_t o = 0; o < scene.objects.size(); ++o)
+    if (scene.objects[o].mesh >= scene.meshes.size())
+      throw std::runtime_error(label + ": object '" + scene.objects[o].name + "' refers to mesh " +
+                               std::to_string(scene.objects[o].mesh) + " of " + std::to_string(scene.meshes.size()));
+  for (const AreaLight& light : scene.area_lights)
+    if (light.object >= scene.objects.size())
+      throw std::runtime_error(label + ": area light refers to object " + std::to_string(light.object) + " of " +
+                               std::to_string(scene.objects.size()));
+
+  device_ = rtcNewDevice("verbose=0");
+  if (!device_) throw std::runtime_error(label + ": cannot create an Embree device");
+  rtcSetDeviceMemoryMonitorFunction(device_, monitor_memory, &embree_bytes_);
+
+  // One Embree scene per mesh, built once.
+  mesh_scenes_.assign(scene.meshes.size(), nullptr);
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const Mesh& mesh = scene.meshes[m];
+    if (mesh.triangles.empty()) continue;
+    RTCScene mesh_scene = rtcNewScene(device_);
+    rtcSetSceneBuildQuality(mesh_scene, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry geometry = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* positions = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                  3 * sizeof(float), mesh.positions.size()));
+    auto* indices = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                                   3 * sizeof(uint32_t), mesh.triangles.size()));
+    check_device(device_, scene, "allocate mesh buffers");
+    for (size_t i = 0; i < mesh.positions.size(); ++i)
+      for (int k = 0; k < 3; ++k) positions[3 * i + k] = mesh.positions[i][k];
+    for (size_t i = 0; i < mesh.triangles.size(); ++i)
+      for (int k = 0; k < 3; ++k) indices[3 * i + k] = mesh.triangles[i][k];
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(mesh_scene, geometry, 0);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(mesh_scene);
+    check_device(device_, scene, "build mesh '" + mesh.name + "'");
+    mesh_scenes_[m] = mesh_scene;
+  }
+
+  // The top level: one instance per object, geometry ID = object index.
+  top_ = rtcNewScene(device_);
+  rtcSetSceneFlags(top_, RTC_SCENE_FLAG_DYNAMIC);
+  rtcSetSceneBuildQuality(top_, RTC_BUILD_QUALITY_LOW);
+  instances_.assign(scene.objects.size(), nullptr);
+  transforms_.resize(scene.objects.size());
+  normal_matrices_.resize(scene.objects.size());
+  for (uint32_t o = 0; o < scene.objects.size(); ++o) {
+    transforms_[o] = scene.objects[o].object_to_world;
+    normal_matrices_[o] = glm::inverseTranspose(glm::mat3(transforms_[o]));
+    RTCScene mesh_scene = mesh_scenes_[scene.objects[o].mesh];
+    if (!mesh_scene) continue;
+    RTCGeometry instance = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(instance, mesh_scene);
+    rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &transforms_[o][0][0]);
+    rtcCommitGeometry(instance);
+    rtcAttachGeometryByID(top_, instance, o);
+    instances_[o] = instance;
+  }
+  rtcCommitScene(top_);
+  check_device(device_, scene, "build the top-level scene");
+
+  area_lights_ = scene.area_lights;
+  area_light_of_object_.assign(scene.objects.size(), kNone);
+  for (uint32_t i = 0; i < area_lights_.size(); ++i) area_light_of_object_[area_lights_[i].object] = i;
+  update_area_light_cdf();
+}
+
+RayScene::~RayScene() {
+  for (RTCGeometry instance : instances_)
+    if (instance) rtcReleaseGeometry(instance);
+  if (top_) rtcReleaseScene(top_);
+  for (RTCScene s : mesh_scenes_)
+    if (s) rtcReleaseScene(s);
+  if (device_) rtcReleaseDevice(device_);
+}
+
+void RayScene::set_object_transform(uint32_t object, const glm::mat4& object_to_world) {
+  if (object >= transforms_.size())
+    throw std::out_of_range(scene_label(scene_) + ": no object " + std::to_string(object) + " to move");
+  glm::mat4 delta = object_to_world * glm::inverse(transforms_[object]);
+  transforms_[object] = object_to_world;
+  normal_matrices_[object] = glm::inverseTranspose(glm::mat3(object_to_world));
+  if (instances_[object]) {
+    rtcSetGeometryTransform(instances_[object], 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, &transforms_[object][0][0]);
+    rtcCommitGeometry(instances_[object]);
+    rtcCommitScene(top_);
+    check_device(device_, scene_, "move object '" + scene_.objects[object].name + "'");
+  }
+  uint32_t light_index = area_light_of_object_[object];
+  if (light_index != kNone) {
+    AreaLight moved = build_area_light(scene_, object, object_to_world);
+    for (auto& loop : area_lights_[light_index].outlines)
+      for (glm::vec3& p : loop) p = glm::vec3(delta * glm::vec4(p, 1.0f));
+    moved.outlines = std::move(area_lights_[light_index].outlines);
+    area_lights_[light_index] = std::move(moved);
+    update_area_light_cdf();
+  }
+}
+
+void RayScene::update_area_light_cdf() {
+  area_light_cdf_.clear();
+  double total = 0.0;
+  for (const AreaLight& light : area_lights_) total += std::max(light.power, 0.0f);
+  double sum = 0.0;
+  for (const AreaLight& light : area_lights_) {
+    sum += std::max(light.power, 0.0f);
+    area_light_cdf_.push_back(total > 0.0 ? float(sum / total) : 0.0f);
+  }
+  if (total > 0.0) area_light_cdf_.back() = 1.0f;
+}
+
+RayHit RayScene::intersect(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRayHit rh;
+  rh.ray.org_x = ray.origin.x, rh.ray.org_y = ray.origin.y, rh.ray.org_z = ray.origin.z;
+  rh.ray.dir_x = ray.direction.x, rh.ray.dir_y = ray.direction.y, rh.ray.dir_z = ray.direction.z;
+  rh.ray.tnear = ray.tnear;
+  rh.ray.tfar = ray.tfar;
+  rh.ray.time = 0.0f;
+  rh.ray.mask = 0xffffffffu;
+  rh.ray.id = 0;
+  rh.ray.flags = 0;
+  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(top_, &context, &rh);
+  RayHit hit;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+  hit.hit = true;
+  hit.t = rh.ray.tfar;
+  hit.object = rh.hit.instID[0];
+  hit.triangle = rh.hit.primID;
+  hit.u = rh.hit.u;
+  hit.v = rh.hit.v;
+  return hit;
+}
+
+bool RayScene::occluded(const Ray& ray) const {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay r;
+  r.org_x = ray.origin.x, r.org_y = ray.origin.y, r.org_z = ray.origin.z;
+  r.dir_x = ray.direction.x, r.dir_y = ray.direction.y, r.dir_z = ray.direction.z;
+  r.tnear = ray.tnear;
+  r.tfar = ray.tfar;
+  r.time = 0.0f;
+  r.mask = 0xffffffffu;
+  r.id = 0;
+  r.flags = 0;
+  rtcOccluded1(top_, &context, &r);
+  return r.tfar < 0.0f;
+}
+
+std::vector<MemoryItem> RayScene::memory() const {
+  size_t light_bytes = 0;
+  for (const AreaLight& light : area_lights_) light_bytes += light.memory_bytes();
+  return {{"embree (BVH + buffers)", embree_bytes()},
+          {"object transforms", transforms_.capacity() * (sizeof(glm::mat4) + sizeof(glm::mat3))},
+          {"area lights (placed copy)", light_bytes}};
+}
+
+}  // namespace epi

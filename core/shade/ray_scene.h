@@ -1,0 +1,81 @@
+// Embree 3 geometry for a Scene: one Embree scene per Mesh, one instance per Object, so an
+// object moves by updating its instance transform and recommitting the top level.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include <embree3/rtcore.h>
+
+#include "scene/scene.h"
+#include "shade/view.h"
+
+namespace epi {
+
+struct RayHit {
+  bool hit = false;
+  float t = 0.0f;
+  uint32_t object = kNone;
+  uint32_t triangle = kNone;
+  float u = 0.0f, v = 0.0f;  // barycentric weights of triangle vertices 1 and 2
+};
+
+class RayScene {
+ public:
+  // Keeps a reference to scene, which must outlive this. Throws std::runtime_error with a
+  // one-line message (naming Scene::source) for invalid indices or an Embree failure.
+  explicit RayScene(const Scene& scene);
+  ~RayScene();
+  RayScene(const RayScene&) = delete;
+  RayScene& operator=(const RayScene&) = delete;
+
+  // Moves an object and recommits; its area light, if any, follows. Must not run while
+  // other threads trace (AsyncShader::run_between_batches does that safely).
+  void set_object_transform(uint32_t object, const glm::mat4& object_to_world);
+
+  const Scene& scene() const { return scene_; }
+  const glm::mat4& object_to_world(uint32_t object) const { return transforms_[object]; }
+  const glm::mat3& normal_to_world(uint32_t object) const { return normal_matrices_[object]; }
+  // World-space area lights as currently placed (Scene::area_lights order), and the CDF
+  // over them by power.
+  const std::vector<AreaLight>& area_lights() const { return area_lights_; }
+  const std::vector<float>& area_light_cdf() const { return area_light_cdf_; }
+
+  // Nearest hit in (tnear, tfar), and whether anything lies there. Thread-safe.
+  RayHit intersect(const Ray& ray) const;
+  bool occluded(const Ray& ray) const;
+
+  RTCScene handle() const { return top_; }
+  size_t embree_bytes() const { return size_t(std::max<int64_t>(embree_bytes_.load(), 0)); }
+  std::vector<MemoryItem> memory() const;
+
+ private:
+  void update_area_light_cdf();
+
+  const Scene& scene_;
+  RTCDevice device_ = nullptr;
+  RTCScene top_ = nullptr;
+  std::vector<RTCScene> mesh_scenes_;
+  std::vector<RTCGeometry> instances_;  // per object; null for empty meshes
+  std::vector<glm::mat4> transforms_;
+  std::vector<glm::mat3> normal_matrices_;
+  std::vector<AreaLight> area_lights_;
+  std::vector<uint32_t> area_light_of_object_;  // index into area_lights_, or kNone
+  std::vector<float> area_light_cdf_;
+  std::atomic<int64_t> embree_bytes_{0};
+};
+
+// Sets flush-to-zero and denormals-are-zero for this thread while alive (Embree wants them).
+class FlushDenormals {
+ public:
+  FlushDenormals();
+  ~FlushDenormals();
+  FlushDenormals(const FlushDenormals&) = delete;
+  FlushDenormals& operator=(const FlushDenormals&) = delete;
+
+ private:
+  unsigned int saved_;
+};
+
+}  // namespace epi

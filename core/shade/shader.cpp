@@ -1,0 +1,367 @@
+#include "shade/shader.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <tbb/blocked_range.h>
+#include <tbb/concurrent_vector.h>
+#include <tbb/parallel_for.h>
+
+#include "shade/brdf.h"
+#include "shade/sampling.h"
+
+namespace epi {
+
+namespace {
+
+// Random streams of one request, one per use.
+enum Stream : uint64_t { kStreamArea = 1, kStreamGlossy = 2, kStreamPath = 3 };
+
+float max_abs(const glm::vec3& p) { return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}); }
+float max_component(const glm::vec3& c) { return std::max({c.x, c.y, c.z}); }
+
+// Index i with cdf[i-1] <= u < cdf[i], and u rescaled to [0, 1) within that interval.
+size_t pick(const std::vector<float>& cdf, float& u) {
+  size_t i = size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
+  i = std::min(i, cdf.size() - 1);
+  float lo = i == 0 ? 0.0f : cdf[i - 1];
+  float width = cdf[i] - lo;
+  u = width > 0.0f ? std::clamp((u - lo) / width, 0.0f, 0.99999994f) : 0.5f;
+  return i;
+}
+float probability(const std::vector<float>& cdf, size_t i) { return cdf[i] - (i == 0 ? 0.0f : cdf[i - 1]); }
+
+// Stratum j of n on a sqrt(n) x sqrt(n) grid (random beyond the grid).
+glm::vec2 stratified(int j, int n, Rng& rng) {
+  int m = int(std::sqrt(double(n)));
+  float a = rng.uniform(), b = rng.uniform();
+  if (j >= m * m) return {a, b};
+  return {(float(j % m) + a) / float(m), (float(j / m) + b) / float(m)};
+}
+
+}  // namespace
+
+// A shading point: where a ray met a surface, oriented towards the ray's origin.
+struct Shader::Surface {
+  glm::vec3 position, geometric_normal, shading_normal, wo;
+  uint32_t object = kNone, triangle = kNone;
+  const Material* material = nullptr;
+  bool front_face = true;
+  float offset = 0.0f;  // absolute ray-start offset
+};
+
+// Everything one request needs while tracing: counters and the triples it met.
+struct Shader::Tracer {
+  const RayScene& scene;
+  const ShaderSettings& settings;
+  std::vector<BlockerTriple>* triples;  // null: do not record
+  size_t first_triple = 0;
+  uint64_t rays = 0;
+
+  RayHit trace(const Ray& ray) {
+    ++rays;
+    return scene.intersect(ray);
+  }
+
+  Surface surface(const RayHit& hit, const Ray& ray) const {
+    const Scene& s = scene.scene();
+    const Mesh& mesh = s.meshes[s.objects[hit.object].mesh];
+    const glm::uvec3& tri = mesh.triangles[hit.triangle];
+    const glm::vec3 w(1.0f - hit.u - hit.v, hit.u, hit.v);
+    const glm::vec3 &p0 = mesh.positions[tri[0]], &p1 = mesh.positions[tri[1]], &p2 = mesh.positions[tri[2]];
+    const glm::mat3& to_world_normal = scene.normal_to_world(hit.object);
+    Surface out;
+    out.object = hit.object;
+    out.triangle = hit.triangle;
+    out.position = glm::vec3(scene.object_to_world(hit.object) * glm::vec4(w.x * p0 + w.y * p1 + w.z * p2, 1.0f));
+    out.wo = -ray.direction;
+    glm::vec3 ng = to_world_normal * glm::cross(p1 - p0, p2 - p0);
+    float length = glm::length(ng);
+    ng = length > 0.0f ? ng / length : out.wo;
+    out.front_face = glm::dot(ng, ray.direction) < 0.0f;
+    if (!out.front_face) ng = -ng;
+    out.geometric_normal = ng;
+    out.shading_normal = ng;
+    if (!mesh.normals.empty()) {
+      glm::vec3 ns = to_world_normal * (w.x * mesh.normals[tri[0]] + w.y * mesh.normals[tri[1]] + w.z * mesh.normals[tri[2]]);
+      float ns_length = glm::length(ns);
+      if (ns_length > 0.0f) {
+        ns /= ns_length;
+        if (!out.front_face) ns = -ns;
+        if (glm::dot(ns, out.wo) > 0.0f) out.shading_normal = ns;
+      }
+    }
+    out.material = &s.materials[mesh.material_of(hit.triangle)];
+    out.offset = settings.ray_offset * std::max(1.0f, max_abs(out.position));
+    return out;
+  }
+
+  Ray spawn(const Surface& s, const glm::vec3& direction, float tfar = 1e30f) const {
+    Ray r;
+    float side = glm::dot(direction, s.geometric_normal) >= 0.0f ? 1.0f : -1.0f;
+    r.origin = s.position + side * s.offset * s.geometric_normal;
+    r.direction = direction;
+    r.tnear = 0.0f;
+    r.tfar = tfar;
+    return r;
+  }
+
+  // Whether the light is visible along the shadow ray; a blocked ray reports its triple.
+  bool visible(const Surface& s, const Ray& shadow_ray, uint32_t light, uint32_t light_object) {
+    ++rays;
+    if (!triples || !settings.record_blockers) return !scene.occluded(shadow_ray);
+    RayHit hit = scene.intersect(shadow_ray);
+    if (!hit.hit) return true;
+    if (hit.object != light_object) {
+      BlockerTriple t{light, hit.object, s.object};
+      if (std::find(triples->begin() + std::ptrdiff_t(first_triple), triples->end(), t) == triples->end())
+        triples->push_back(t);
+    }
+    return false;
+  }
+
+  // Reflected radiance from punctual light i.
+  glm::vec3 punctual(const Surface& s, const BrdfParams& brdf, uint32_t i) {
+    const PunctualLight& light = scene.scene().punctual_lights[i];
+    glm::vec3 wi;
+    glm::vec3 incoming = light.intensity;
+    float distance = 1e30f;
+    if (light.type == LightType::directional) {
+      wi = -glm::normalize(light.direction);
+    } else {
+      glm::vec3 to_light = light.position - s.position;
+      float d2 = glm::dot(to_light, to_light);
+      distance = std::sqrt(d2);
+      if (!(distance > 0.0f)) return glm::vec3(0.0f);
+      wi = to_light / distance;
+      float attenuation = 1.0f / d2;
+      if (light.range > 0.0f) {
+        float r = distance / light.range;
+        attenuation *= std::clamp(1.0f - r * r * r * r, 0.0f, 1.0f);
+      }
+      if (light.type == LightType::spot) {
+        float cd = glm::dot(glm::normalize(light.direction), -wi);
+        float span = light.inner_cone_cos - light.outer_cone_cos;
+        float t = span > 0.0f ? std::clamp((cd - light.outer_cone_cos) / span, 0.0f, 1.0f) : (cd > light.outer_cone_cos ? 1.0f : 0.0f);
+        attenuation *= t * t;
+      }
+      incoming *= attenuation;
+    }
+    float cos_s = glm::dot(s.shading_normal, wi);
+    if (cos_s <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f || max_component(incoming) <= 0.0f) return glm::vec3(0.0f);
+    glm::vec3 f = eval_brdf(brdf, s.shading_normal, s.wo, wi);
+    if (max_component(f) <= 0.0f) return glm::vec3(0.0f);
+    Ray shadow = spawn(s, wi, distance < 1e30f ? std::max(0.0f, distance - 2.0f * s.offset) : 1e30f);
+    if (!visible(s, shadow, i, kNone)) return glm::vec3(0.0f);
+    return f * incoming * cos_s;
+  }
+
+  // One area-light sample: light by power, triangle by power, point uniformly; u picks the
+  // triangle and the point, u0 the light. Returns reflected radiance / pdf.
+  glm::vec3 area_sample(const Surface& s, const BrdfParams& brdf, float u0, glm::vec2 u) {
+    const std::vector<AreaLight>& lights = scene.area_lights();
+    size_t l = pick(scene.area_light_cdf(), u0);
+    const AreaLight& light = lights[l];
+    if (light.triangle_cdf.empty()) return glm::vec3(0.0f);
+    size_t k = pick(light.triangle_cdf, u.x);
+    const glm::vec3* v = &light.triangle_vertices[3 * k];
+    glm::vec3 b = sample_triangle(u.x, u.y);
+    glm::vec3 point = b.x * v[0] + b.y * v[1] + b.z * v[2];
+    glm::vec3 cross = glm::cross(v[1] - v[0], v[2] - v[0]);
+    float double_area = glm::length(cross);
+    glm::vec3 to_light = point - s.position;
+    float d2 = glm::dot(to_light, to_light);
+    if (!(double_area > 0.0f) || !(d2 > 0.0f)) return glm::vec3(0.0f);
+    float distance = std::sqrt(d2);
+    glm::vec3 wi = to_light / distance;
+    float cos_light = -glm::dot(cross / double_area, wi);  // emission leaves the front face
+    float cos_s = glm::dot(s.shading_normal, wi);
+    if (cos_light <= 0.0f || cos_s <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f) return glm::vec3(0.0f);
+    glm::vec3 f = eval_brdf(brdf, s.shading_normal, s.wo, wi);
+    const glm::vec3& emission = scene.scene().materials[light.triangle_materials[k]].emission;
+    if (max_component(f) <= 0.0f || max_component(emission) <= 0.0f) return glm::vec3(0.0f);
+    float pdf_area = probability(scene.area_light_cdf(), l) * probability(light.triangle_cdf, k) / (0.5f * double_area);
+    float light_offset = settings.ray_offset * std::max(1.0f, max_abs(point));
+    Ray shadow = spawn(s, wi, std::max(0.0f, distance - s.offset - light_offset));
+    uint32_t number = uint32_t(scene.scene().punctual_lights.size() + l);
+    if (!visible(s, shadow, number, light.object)) return glm::vec3(0.0f);
+    return f * emission * (cos_s * cos_light / (d2 * pdf_area));
+  }
+
+  bool has_area_lights() const { return !scene.area_light_cdf().empty() && scene.area_light_cdf().back() > 0.0f; }
+
+  // Direct lighting: every punctual light once, area lights with n stratified samples from
+  // one stream each (primary hits), or from the given stream (deeper hits).
+  glm::vec3 direct(const Surface& s, int n, uint64_t key, Rng* stream) {
+    BrdfParams brdf = BrdfParams::from(*s.material, settings.specular);
+    glm::vec3 sum(0.0f);
+    for (uint32_t i = 0; i < scene.scene().punctual_lights.size(); ++i) sum += punctual(s, brdf, i);
+    if (n > 0 && has_area_lights()) {
+      glm::vec3 area(0.0f);
+      for (int j = 0; j < n; ++j) {
+        Rng own(key, kStreamArea, uint64_t(j));
+        Rng& rng = stream ? *stream : own;
+        glm::vec2 u = stratified(j, n, rng);
+        area += area_sample(s, brdf, rng.uniform(), u);
+      }
+      sum += area / float(n);
+    }
+    return sum;
+  }
+
+  glm::vec3 emitted(const Surface& s) const { return s.front_face ? s.material->emission : glm::vec3(0.0f); }
+
+  // Glossy reflection: n rays from the GGX lobe, each reflected hit lit directly.
+  glm::vec3 glossy(const Surface& s, uint64_t key) {
+    if (!settings.specular || settings.glossy_samples <= 0) return glm::vec3(0.0f);
+    BrdfParams brdf = BrdfParams::from(*s.material, true);
+    const glm::vec3& n = s.shading_normal;
+    float n_dot_v = glm::dot(n, s.wo);
+    Frame frame(n);
+    glm::vec3 sum(0.0f);
+    for (int j = 0; j < settings.glossy_samples; ++j) {
+      Rng rng(key, kStreamGlossy, uint64_t(j));
+      glm::vec2 u = stratified(j, settings.glossy_samples, rng);
+      glm::vec3 h = frame.to_world(sample_ggx_half(u.x, u.y, brdf.alpha));
+      float v_dot_h = glm::dot(s.wo, h), n_dot_h = glm::dot(n, h);
+      if (v_dot_h <= 0.0f || n_dot_h <= 0.0f) continue;
+      glm::vec3 wi = 2.0f * v_dot_h * h - s.wo;
+      float n_dot_l = glm::dot(n, wi);
+      if (n_dot_l <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f) continue;
+      // f_spec * cos / pdf with pdf = D (n.h) / (4 v.h)
+      glm::vec3 weight = schlick(brdf.f0, v_dot_h) *
+                         (smith_g1(n_dot_l, brdf.alpha) * smith_g1(n_dot_v, brdf.alpha) * v_dot_h / (n_dot_v * n_dot_h));
+      Ray ray = spawn(s, wi);
+      RayHit hit = trace(ray);
+      if (!hit.hit) continue;
+      Surface reflected = surface(hit, ray);
+      sum += weight * direct(reflected, settings.glossy_light_samples, 0, &rng);
+    }
+    return sum / float(settings.glossy_samples);
+  }
+
+  // Samples the BRDF at s: a direction and f * cos / pdf; false when the path ends.
+  bool sample_brdf(const Surface& s, Rng& rng, glm::vec3& wi, glm::vec3& weight) const {
+    BrdfParams brdf = BrdfParams::from(*s.material, settings.specular);
+    const glm::vec3& n = s.shading_normal;
+    Frame frame(n);
+    float p_specular = 0.0f;
+    if (settings.specular) {
+      float spec = luminance(schlick(brdf.f0, glm::dot(n, s.wo)));
+      float diff = luminance(brdf.diffuse) * (1.0f - spec);
+      if (spec + diff <= 0.0f) return false;
+      p_specular = diff <= 0.0f ? 1.0f : std::clamp(spec / (spec + diff), 0.1f, 0.9f);
+    }
+    float choice = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
+    if (choice < p_specular) {
+      glm::vec3 h = frame.to_world(sample_ggx_half(u1, u2, brdf.alpha));
+      wi = 2.0f * glm::dot(s.wo, h) * h - s.wo;
+    } else {
+      wi = frame.to_world(sample_cosine_hemisphere(u1, u2));
+    }
+    float cos_i = glm::dot(n, wi);
+    if (cos_i <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f) return false;
+    float pdf = (1.0f - p_specular) * cos_i * float(1.0 / M_PI);
+    if (p_specular > 0.0f) pdf += p_specular * ggx_reflection_pdf(n, s.wo, wi, brdf.alpha);
+    if (!(pdf > 0.0f)) return false;
+    weight = eval_brdf(brdf, n, s.wo, wi) * (cos_i / pdf);
+    return max_component(weight) > 0.0f;
+  }
+
+  // Indirect light by path tracing: next-event estimation at every vertex, Russian roulette.
+  glm::vec3 indirect(const Surface& primary, uint64_t key) {
+    if (settings.gi_paths <= 0) return glm::vec3(0.0f);
+    glm::vec3 sum(0.0f);
+    for (int p = 0; p < settings.gi_paths; ++p) {
+      Rng rng(key, kStreamPath, uint64_t(p));
+      glm::vec3 throughput(1.0f);
+      Surface s = primary;
+      for (int bounce = 1; bounce <= settings.gi_max_bounces; ++bounce) {
+        glm::vec3 wi, weight;
+        if (!sample_brdf(s, rng, wi, weight)) break;
+        throughput *= weight;
+        Ray ray = spawn(s, wi);
+        RayHit hit = trace(ray);
+        if (!hit.hit) break;
+        s = surface(hit, ray);
+        sum += throughput * direct(s, settings.gi_light_samples, 0, &rng);
+        if (bounce >= settings.gi_roulette_bounce) {
+          float survive = std::min(0.95f, max_component(throughput));
+          if (rng.uniform() >= survive) break;
+          throughput /= survive;
+        }
+      }
+    }
+    return sum / float(settings.gi_paths);
+  }
+};
+
+Shader::Shader(const RayScene& scene, const ShaderSettings& settings) : scene_(scene), settings_(settings) {}
+
+ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& request, std::vector<BlockerTriple>& triples,
+                              uint64_t& rays) const {
+  ShadeResult result;
+  result.id = request.id;
+  result.x = request.x;
+  result.y = request.y;
+  result.triple_begin = uint32_t(triples.size());
+  Tracer tracer{scene_, settings_, &triples, triples.size(), 0};
+  Ray ray = frame.ray(request.x, request.y);
+  RayHit hit = tracer.trace(ray);
+  if (hit.hit) {
+    Surface s = tracer.surface(hit, ray);
+    uint64_t key = request_key(settings_.seed, request.x, request.y);
+    glm::vec3 color = tracer.emitted(s) + tracer.direct(s, settings_.area_light_samples, key, nullptr);
+    tracer.triples = nullptr;  // triples come from the primary hit's shadow rays only
+    if (settings_.kind == ShaderKind::glossy) color += tracer.glossy(s, key);
+    if (settings_.kind == ShaderKind::gi) color += tracer.indirect(s, key);
+    for (int c = 0; c < 3; ++c)
+      if (!std::isfinite(color[c])) color[c] = 0.0f;
+    result.hit = true;
+    result.object = s.object;
+    result.triangle = s.triangle;
+    result.position = s.position;
+    result.normal = s.geometric_normal;
+    result.color = color;
+  }
+  result.triple_count = uint32_t(triples.size()) - result.triple_begin;
+  rays += tracer.rays;
+  return result;
+}
+
+void Shader::shade(const View& view, std::span<const ShadeRequest> requests, ShadeBatch& out) const {
+  shade(ViewFrame(view), requests, out);
+}
+
+void Shader::shade(const ViewFrame& frame, std::span<const ShadeRequest> requests, ShadeBatch& out) const {
+  struct Chunk {
+    size_t begin, end;
+    std::vector<BlockerTriple> triples;
+    uint64_t rays;
+  };
+  const size_t base = out.results.size();
+  out.results.resize(base + requests.size());
+  tbb::concurrent_vector<Chunk> chunks;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, requests.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
+    FlushDenormals flush;
+    Chunk chunk{range.begin(), range.end(), {}, 0};
+    for (size_t i = range.begin(); i < range.end(); ++i)
+      out.results[base + i] = shade_one(frame, requests[i], chunk.triples, chunk.rays);
+    chunks.push_back(std::move(chunk));
+  });
+  // Concatenate the triples in request order.
+  std::vector<const Chunk*> ordered;
+  for (const Chunk& c : chunks) ordered.push_back(&c);
+  std::sort(ordered.begin(), ordered.end(), [](const Chunk* a, const Chunk* b) { return a->begin < b->begin; });
+  uint64_t rays = 0;
+  for (const Chunk* c : ordered) {
+    uint32_t offset = uint32_t(out.triples.size());
+    for (size_t i = c->begin; i < c->end; ++i) out.results[base + i].triple_begin += offset;
+    out.triples.insert(out.triples.end(), c->triples.begin(), c->triples.end());
+    rays += c->rays;
+  }
+  out.rays += rays;
+  add_rays(rays);
+}
+
+}  // namespace epi

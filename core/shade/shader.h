@@ -1,0 +1,92 @@
+// The expensive "external shader" of the render cache and the edge-and-point image:
+// shades batches of image-space requests with Embree, in parallel over requests (TBB).
+// Output for a given seed is bit-identical whatever the thread count or batch split.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "shade/ray_scene.h"
+#include "shade/view.h"
+
+namespace epi {
+
+enum class ShaderKind { direct, glossy, gi };
+
+struct ShaderSettings {
+  ShaderKind kind = ShaderKind::direct;  // direct lighting only, + glossy reflection, or + path-traced indirect
+  int area_light_samples = 16;           // shadow rays to area lights per primary hit
+  int glossy_samples = 8;                // GGX-lobe reflection rays per hit (glossy)
+  int glossy_light_samples = 4;          // area-light shadow rays at each reflected hit (glossy)
+  int gi_paths = 16;                     // indirect paths per hit (gi)
+  int gi_light_samples = 1;              // area-light shadow rays per path vertex (gi)
+  int gi_max_bounces = 8;                // longest path, in bounces after the primary hit (gi)
+  int gi_roulette_bounce = 3;            // Russian roulette from this bounce on (gi)
+  bool specular = true;                  // false: Lambertian only (glTF base colour * (1 - metallic))
+  bool record_blockers = true;           // report light-blocker-receiver triples (shadow rays find the blocker)
+  uint64_t seed = 1;                     // every random stream derives from this
+  float ray_offset = 1e-4f;              // secondary ray start offset, relative to the hit's coordinate scale
+};
+
+struct ShadeRequest {
+  uint32_t id = 0;
+  float x = 0.0f, y = 0.0f;  // pixel position with sub-pixel offset (see view.h)
+};
+
+// A light whose shadow ray from the receiver was blocked by the blocker object.
+struct BlockerTriple {
+  uint32_t light = 0;  // punctual lights first, then area lights (see lights.h)
+  uint32_t blocker = 0;
+  uint32_t receiver = 0;
+  bool operator==(const BlockerTriple&) const = default;
+};
+
+struct ShadeResult {
+  uint32_t id = 0;
+  float x = 0.0f, y = 0.0f;
+  bool hit = false;
+  uint32_t object = kNone;    // kNone on a miss
+  uint32_t triangle = kNone;
+  glm::vec3 position{0.0f};   // first hit, world space
+  glm::vec3 normal{0.0f};     // geometric, world space, facing the ray
+  glm::vec3 color{0.0f};      // linear RGB radiance towards the eye
+  uint32_t triple_begin = 0;  // into ShadeBatch::triples
+  uint32_t triple_count = 0;
+};
+
+struct ShadeBatch {
+  std::vector<ShadeResult> results;
+  std::vector<BlockerTriple> triples;  // deduplicated per result
+  uint64_t rays = 0;                   // rays traced for these results
+
+  void clear() { results.clear(), triples.clear(), rays = 0; }
+  std::span<const BlockerTriple> triples_of(const ShadeResult& r) const { return {triples.data() + r.triple_begin, r.triple_count}; }
+};
+
+class Shader {
+ public:
+  Shader(const RayScene& scene, const ShaderSettings& settings);
+
+  // Shades requests in parallel (TBB, in the caller's arena) and appends to out.
+  void shade(const View& view, std::span<const ShadeRequest> requests, ShadeBatch& out) const;
+  void shade(const ViewFrame& frame, std::span<const ShadeRequest> requests, ShadeBatch& out) const;
+  // One request on the calling thread; triples are appended; rays counts what it traced.
+  ShadeResult shade_one(const ViewFrame& frame, const ShadeRequest& request, std::vector<BlockerTriple>& triples,
+                        uint64_t& rays) const;
+
+  const ShaderSettings& settings() const { return settings_; }
+  const RayScene& ray_scene() const { return scene_; }
+  uint64_t rays_traced() const { return rays_traced_.load(std::memory_order_relaxed); }  // since construction
+  void add_rays(uint64_t n) const { rays_traced_.fetch_add(n, std::memory_order_relaxed); }
+
+ private:
+  struct Surface;
+  struct Tracer;
+  const RayScene& scene_;
+  ShaderSettings settings_;
+  mutable std::atomic<uint64_t> rays_traced_{0};
+};
+
+}  // namespace epi

@@ -1,0 +1,59 @@
+#include "shade/view.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace epi {
+
+namespace {
+std::string camera_label(const Camera& camera) { return camera.name.empty() ? "camera" : "camera '" + camera.name + "'"; }
+}  // namespace
+
+ViewFrame::ViewFrame(const View& view) : view_(view) {
+  const Camera& c = view.camera;
+  if (view.width <= 0 || view.height <= 0)
+    throw std::invalid_argument("view: image size " + std::to_string(view.width) + "x" + std::to_string(view.height) +
+                                " is not positive");
+  if (!(c.yfov_degrees > 0.0f && c.yfov_degrees < 180.0f))
+    throw std::invalid_argument(camera_label(c) + ": vertical field of view " + std::to_string(c.yfov_degrees) +
+                                " is not in (0, 180) degrees");
+  glm::vec3 to_target = c.target - c.eye;
+  float distance = glm::length(to_target);
+  if (!(distance > 0.0f) || !std::isfinite(distance))
+    throw std::invalid_argument(camera_label(c) + ": eye and target coincide or are not finite");
+  forward_ = to_target / distance;
+  glm::vec3 side = glm::cross(forward_, c.up);
+  if (!(glm::length(side) > 1e-6f)) {  // up parallel to the view direction: pick any perpendicular
+    glm::vec3 axis = std::abs(forward_.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    side = glm::cross(forward_, axis);
+  }
+  right_ = glm::normalize(side);
+  up_ = glm::cross(right_, forward_);
+  half_height_ = float(std::tan(double(c.yfov_degrees) * M_PI / 360.0));
+  half_width_ = half_height_ * float(view.width) / float(view.height);
+}
+
+Ray ViewFrame::ray(float x, float y) const {
+  float sx = (2.0f * x / float(view_.width) - 1.0f) * half_width_;
+  float sy = (1.0f - 2.0f * y / float(view_.height)) * half_height_;
+  glm::vec3 d = forward_ + sx * right_ + sy * up_;
+  float length = glm::length(d);
+  Ray r;
+  r.origin = view_.camera.eye;
+  r.direction = d / length;
+  r.tnear = std::max(view_.camera.znear, 0.0f) * length;  // depth znear along forward
+  return r;
+}
+
+Projection ViewFrame::project(const glm::vec3& world) const {
+  glm::vec3 rel = world - view_.camera.eye;
+  Projection p;
+  p.depth = glm::dot(rel, forward_);
+  float sx = glm::dot(rel, right_) / (p.depth * half_width_);
+  float sy = glm::dot(rel, up_) / (p.depth * half_height_);
+  p.pixel = glm::vec2((sx + 1.0f) * 0.5f * float(view_.width), (1.0f - sy) * 0.5f * float(view_.height));
+  return p;
+}
+
+}  // namespace epi
