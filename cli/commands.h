@@ -11,12 +11,20 @@
 
 #include <glm/glm.hpp>
 
+namespace epi {
+struct Scene;
+struct Camera;
+}  // namespace epi
+
 namespace epi::cli {
 
 struct CameraOverride {
   std::optional<glm::vec3> eye, target, up;
   std::optional<float> fov_degrees;
 };
+
+// The scene's default camera with the command line's --eye/--target/--up/--fov applied.
+Camera apply_camera_override(const Scene& scene, const CameraOverride& override_);
 
 struct InfoOptions {
   std::string scene;
