@@ -7,7 +7,7 @@ namespace epi {
 AsyncShader::AsyncShader(const Shader& shader, int threads, size_t slice_size)
     : shader_(shader),
       slice_size_(std::max<size_t>(slice_size, 1)),
-      arena_(std::make_unique<tbb::task_arena>(threads > 0 ? threads : tbb::task_arena::automatic)),
+      arena_(std::make_unique<tbb::task_arena>(threads > 0 ? threads : int(tbb::task_arena::automatic))),
       worker_([this] { run(); }) {}
 
 AsyncShader::~AsyncShader() {

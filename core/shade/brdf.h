@@ -55,7 +55,10 @@ inline glm::vec3 eval_brdf(const BrdfParams& p, const glm::vec3& n, const glm::v
   glm::vec3 f = schlick(p.f0, v_dot_h);
   float d = ggx_d(std::max(glm::dot(n, h), 0.0f), p.alpha);
   float g = smith_g1(n_dot_l, p.alpha) * smith_g1(n_dot_v, p.alpha);
-  return (glm::vec3(1.0f) - f) * p.diffuse * float(1.0 / M_PI) + f * (d * g / (4.0f * n_dot_l * n_dot_v));
+  // The diffuse lobe gets what the specular interface transmits, in and out (reciprocal,
+  // and unlike glTF's (1 - F(v.h)) weighting it does not create energy at grazing angles).
+  glm::vec3 transmitted = (glm::vec3(1.0f) - schlick(p.f0, n_dot_l)) * (glm::vec3(1.0f) - schlick(p.f0, n_dot_v));
+  return transmitted * p.diffuse * float(1.0 / M_PI) + f * (d * g / (4.0f * n_dot_l * n_dot_v));
 }
 
 // A half vector from D(h) * (n.h), in the local frame (z = normal); pdf(h) = D(h) * (n.h).

@@ -106,6 +106,16 @@ struct Shader::Tracer {
     return r;
   }
 
+  // A shadow ray from s to a point, stopping end_offset short of it.
+  Ray spawn_to(const Surface& s, const glm::vec3& target, const glm::vec3& wi, float end_offset) const {
+    Ray r = spawn(s, wi);
+    glm::vec3 to_target = target - r.origin;
+    float distance = glm::length(to_target);
+    r.direction = to_target / distance;
+    r.tfar = std::max(0.0f, distance - end_offset);
+    return r;
+  }
+
   // Whether the light is visible along the shadow ray; a blocked ray reports its triple.
   bool visible(const Surface& s, const Ray& shadow_ray, uint32_t light, uint32_t light_object) {
     ++rays;
@@ -151,7 +161,7 @@ struct Shader::Tracer {
     if (cos_s <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f || max_component(incoming) <= 0.0f) return glm::vec3(0.0f);
     glm::vec3 f = eval_brdf(brdf, s.shading_normal, s.wo, wi);
     if (max_component(f) <= 0.0f) return glm::vec3(0.0f);
-    Ray shadow = spawn(s, wi, distance < 1e30f ? std::max(0.0f, distance - 2.0f * s.offset) : 1e30f);
+    Ray shadow = light.type == LightType::directional ? spawn(s, wi) : spawn_to(s, light.position, wi, s.offset);
     if (!visible(s, shadow, i, kNone)) return glm::vec3(0.0f);
     return f * incoming * cos_s;
   }
@@ -182,7 +192,7 @@ struct Shader::Tracer {
     if (max_component(f) <= 0.0f || max_component(emission) <= 0.0f) return glm::vec3(0.0f);
     float pdf_area = probability(scene.area_light_cdf(), l) * probability(light.triangle_cdf, k) / (0.5f * double_area);
     float light_offset = settings.ray_offset * std::max(1.0f, max_abs(point));
-    Ray shadow = spawn(s, wi, std::max(0.0f, distance - s.offset - light_offset));
+    Ray shadow = spawn_to(s, point, wi, light_offset);
     uint32_t number = uint32_t(scene.scene().punctual_lights.size() + l);
     if (!visible(s, shadow, number, light.object)) return glm::vec3(0.0f);
     return f * emission * (cos_s * cos_light / (d2 * pdf_area));
