@@ -185,6 +185,42 @@ RayHit RayScene::intersect(const Ray& ray) const {
   return hit;
 }
 
+void RayScene::intersect16(const Ray* rays, size_t count, RayHit* hits) const {
+  count = std::min<size_t>(count, 16);
+  if (count == 0) return;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  alignas(64) RTCRayHit16 rh;
+  alignas(64) int valid[16];
+  for (size_t i = 0; i < 16; ++i) {
+    const Ray& ray = rays[std::min(i, count - 1)];
+    valid[i] = i < count ? -1 : 0;
+    rh.ray.org_x[i] = ray.origin.x, rh.ray.org_y[i] = ray.origin.y, rh.ray.org_z[i] = ray.origin.z;
+    rh.ray.dir_x[i] = ray.direction.x, rh.ray.dir_y[i] = ray.direction.y, rh.ray.dir_z[i] = ray.direction.z;
+    rh.ray.tnear[i] = ray.tnear;
+    rh.ray.tfar[i] = ray.tfar;
+    rh.ray.time[i] = 0.0f;
+    rh.ray.mask[i] = 0xffffffffu;
+    rh.ray.id[i] = unsigned(i);
+    rh.ray.flags[i] = 0;
+    rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
+  }
+  rtcIntersect16(valid, top_, &context, &rh);
+  for (size_t i = 0; i < count; ++i) {
+    RayHit& hit = hits[i];
+    hit = RayHit{};
+    if (rh.hit.geomID[i] == RTC_INVALID_GEOMETRY_ID) continue;
+    hit.hit = true;
+    hit.t = rh.ray.tfar[i];
+    hit.object = rh.hit.instID[0][i];
+    hit.triangle = rh.hit.primID[i];
+    hit.u = rh.hit.u[i];
+    hit.v = rh.hit.v[i];
+  }
+}
+
 bool RayScene::occluded(const Ray& ray) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);

@@ -119,7 +119,9 @@ struct Shader::Tracer {
   // Whether the light is visible along the shadow ray; a blocked ray reports its triple.
   bool visible(const Surface& s, const Ray& shadow_ray, uint32_t light, uint32_t light_object) {
     ++rays;
-    if (!triples || !settings.record_blockers) return !scene.occluded(shadow_ray);
+    if (!scene.occluded(shadow_ray)) return true;
+    if (!triples || !settings.record_blockers) return false;
+    ++rays;  // blocked: find the nearest blocker
     RayHit hit = scene.intersect(shadow_ray);
     if (!hit.hit) return true;
     if (hit.object != light_object) {

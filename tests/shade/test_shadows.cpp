@@ -180,3 +180,39 @@ TEST(RayScene, EmptySceneAndEmptyMeshesTraceAsMisses) {
 
 }  // namespace
 }  // namespace epi
+
+namespace epi {
+namespace {
+
+TEST(RayScene, PacketsFindTheSameHitsAsSingleRays) {
+  Scene scene;
+  uint32_t grey = test::add_material(scene, glm::vec3(0.5f));
+  test::add_object(scene, test::quad_mesh({-10, -10, 0}, {20, 0, 0}, {0, 20, 0}, grey), "floor");
+  test::add_object(scene, test::sphere_mesh({0, 0, 1}, 1.0f, 24, 48, grey), "ball",
+                   glm::rotate(glm::translate(glm::mat4(1.0f), glm::vec3(0.3f, 0, 0)), 0.4f, glm::vec3(0, 1, 1)));
+  RayScene rays(scene);
+  ViewFrame frame(View{test::look({0, -5, 2}, {0, 0, 0.7f}), 97, 61});
+  std::vector<Ray> batch;
+  for (int y = 0; y < 61; ++y)
+    for (int x = 0; x < 97; ++x) batch.push_back(frame.ray(float(x) + 0.5f, float(y) + 0.25f));
+  size_t hits = 0;
+  for (size_t begin = 0; begin < batch.size(); begin += 13) {  // partial packets too
+    size_t n = std::min<size_t>(13, batch.size() - begin);
+    RayHit packet[16];
+    rays.intersect16(&batch[begin], n, packet);
+    for (size_t i = 0; i < n; ++i) {
+      RayHit single = rays.intersect(batch[begin + i]);
+      ASSERT_EQ(single.hit, packet[i].hit);
+      ASSERT_EQ(single.object, packet[i].object);
+      ASSERT_EQ(single.triangle, packet[i].triangle);
+      ASSERT_NEAR(single.t, packet[i].t, 1e-5f * single.t);  // bit-equal here; Embree promises no more
+      ASSERT_NEAR(single.u, packet[i].u, 1e-5f);
+      ASSERT_NEAR(single.v, packet[i].v, 1e-5f);
+      hits += single.hit;
+    }
+  }
+  EXPECT_GT(hits, batch.size() / 2);
+}
+
+}  // namespace
+}  // namespace epi
