@@ -13,7 +13,7 @@ namespace {
   throw std::runtime_error("accessor " + std::to_string(accessor) + ": " + problem);
 }
 
-// Where an accessor's elements are: `data` null means all zeros (no buffer view).
+// Where an accessor's elements are.
 struct ElementView {
   const unsigned char* data = nullptr;
   size_t stride = 0;
@@ -29,7 +29,9 @@ ElementView view_accessor(const tinygltf::Model& model, int index, int expected_
   if (accessor.type != expected_type) fail(index, "wrong element type");
   ElementView view;
   view.count = accessor.count;
-  if (accessor.bufferView < 0) return view;  // glTF: no buffer view means zeros
+  // glTF allows an accessor without buffer view (all zeros, for sparse data); with sparse
+  // unsupported it would only be a large block of zeros, so it is refused.
+  if (accessor.bufferView < 0) fail(index, "has no buffer view (zero-filled accessors are not supported)");
   check_buffer_view(model, accessor.bufferView);
   const tinygltf::BufferView& buffer_view = model.bufferViews[size_t(accessor.bufferView)];
   view.stride = buffer_view.byteStride != 0 ? buffer_view.byteStride : element_bytes;
@@ -73,8 +75,7 @@ std::vector<glm::vec3> read_vec3(const tinygltf::Model& model, int index) {
   const ElementView view = view_accessor(model, index, TINYGLTF_TYPE_VEC3, 12);
   if (model.accessors[size_t(index)].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
     fail(index, "expected VEC3 of FLOAT components");
-  std::vector<glm::vec3> values(view.count, glm::vec3(0.0f));
-  if (view.data == nullptr) return values;
+  std::vector<glm::vec3> values(view.count);
   for (size_t i = 0; i < view.count; ++i) {
     float xyz[3];
     std::memcpy(xyz, view.data + i * view.stride, sizeof xyz);
@@ -95,8 +96,7 @@ std::vector<uint32_t> read_indices(const tinygltf::Model& model, int index) {
   else if (component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) bytes = 4;
   else fail(index, "indices must be unsigned byte, short or int (componentType " + std::to_string(component) + ")");
   const ElementView view = view_accessor(model, index, TINYGLTF_TYPE_SCALAR, bytes);
-  std::vector<uint32_t> values(view.count, 0u);
-  if (view.data == nullptr) return values;
+  std::vector<uint32_t> values(view.count);
   for (size_t i = 0; i < view.count; ++i) {
     const unsigned char* p = view.data + i * view.stride;
     if (bytes == 1) {

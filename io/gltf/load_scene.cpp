@@ -35,6 +35,7 @@ using gltf::describe_json;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxSubdivisionLevel = 8;
+constexpr uint64_t kMaxRefinedTriangles = uint64_t(1) << 26;  // per primitive: ~2 GB of refined mesh
 const std::set<std::string> kSupportedRequiredExtensions{"KHR_lights_punctual", "KHR_materials_emissive_strength"};
 
 [[noreturn]] void fail(const std::string& problem) { throw std::runtime_error(problem); }
@@ -590,6 +591,11 @@ BuiltMesh build_mesh(const tinygltf::Model& model, const json& document, size_t 
     if (request.subdivide) {
       const ControlMesh cage = build_cage(data, request, primitive_where);
       mesh.subdivision.control_faces += uint32_t(cage.face_sizes.size());
+      // At most 2 * 4^level triangles per cage face (quads split in two; triangles give 3 quads at level 1).
+      const uint64_t refined_triangles = uint64_t(cage.face_sizes.size()) << (2 * request.level + 1);
+      if (refined_triangles > kMaxRefinedTriangles)
+        fail(primitive_where + ": subdivision level " + std::to_string(request.level) + " would make up to " +
+             std::to_string(refined_triangles) + " triangles (limit " + std::to_string(kMaxRefinedTriangles) + ")");
       SubdividedMesh refined;
       try {
         refined = subdivide(cage, request.scheme, request.level);

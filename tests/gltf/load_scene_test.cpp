@@ -126,7 +126,7 @@ TEST(LoadScene, EveryIndexTypeAndNonIndexedGiveTheSameTriangles) {
     json primitive = {{"attributes", {{"POSITION", b.add_vec3(quad)}}}, {"indices", b.add_indices(test::unit_quad_indices(), type)}};
     b.doc["meshes"].push_back({{"primitives", {primitive}}});
     b.set_scene({b.add_node({{"mesh", 0}})});
-    const Scene scene = load_scene(b.write_glb(dir / ("i" + std::to_string(type) + ".glb")));
+    const Scene scene = load_scene(b.write_glb(dir / ("indices" + std::to_string(type) + ".glb")));
     ASSERT_EQ(scene.meshes[0].triangles.size(), 2u) << type;
     EXPECT_EQ(scene.meshes[0].triangles[0], glm::uvec3(0, 1, 2));
     EXPECT_EQ(scene.meshes[0].triangles[1], glm::uvec3(0, 2, 3));

@@ -137,6 +137,10 @@ const std::vector<Case> kCases = {
                                           {"indices", {{"bufferView", 0}, {"componentType", 5125}}},
                                           {"values", {{"bufferView", 0}}}};
      }, "sparse"},
+    {"accessor without buffer view", [](GltfBuilder& b) {
+       b.doc["accessors"][0].erase("bufferView");
+       b.doc["accessors"][0]["count"] = 2000000000;
+     }, "accessor 0: has no buffer view"},
     {"no scenes", [](GltfBuilder& b) {
        b.doc.erase("scenes");
        b.doc.erase("scene");
@@ -305,6 +309,15 @@ TEST(Malformed, SubdivisionRequests) {
   expect_error(with_subdivision({{"creases", {{0, 9, 2.0}}}}).write_gltf(dir / "s.gltf"), "crease vertex 9 out of range");
   expect_error(with_subdivision({{"creases", {{0, 1, -1.0}}}}).write_gltf(dir / "s.gltf"), "sharpness");
   expect_error(with_subdivision("yes").write_gltf(dir / "s.gltf"), "extras.epi.subdivision: expected an object");
+  // A request that would exhaust memory: 1000 quads at level 8.
+  GltfBuilder big = valid_scene();
+  std::vector<glm::vec3> grid;
+  std::vector<uint32_t> grid_indices;
+  for (uint32_t i = 0; i <= 1000; ++i) grid.insert(grid.end(), {glm::vec3(float(i), 0, 0), glm::vec3(float(i), 1, 0)});
+  for (uint32_t i = 0; i < 1000; ++i) grid_indices.insert(grid_indices.end(), {2 * i, 2 * i + 2, 2 * i + 3, 2 * i, 2 * i + 3, 2 * i + 1});
+  big.doc["meshes"][0]["primitives"][0] = big.make_primitive(grid, grid_indices);
+  big.doc["meshes"][0]["extras"]["epi"]["subdivision"] = {{"level", 8}, {"quads", true}};
+  expect_error(big.write_gltf(dir / "big.gltf"), "would make up to 131072000 triangles (limit 67108864)");
   // Quads whose triangle pairs do not share the (a, c) diagonal.
   GltfBuilder b = with_subdivision({{"quads", true}});
   const uint32_t not_pairs[6] = {0, 1, 2, 2, 3, 0};

@@ -20,7 +20,7 @@ GltfBuilder cube_scene(const json& subdivision, int primitives = 1) {
   test::unit_cube(positions, indices);
   json mesh = {{"name", "cube"}, {"primitives", json::array()}};
   for (int p = 0; p < primitives; ++p) {
-    const int material = b.add_material({{"name", "m" + std::to_string(p)}});
+    const int material = b.add_material({{"name", "material" + std::to_string(p)}});
     mesh["primitives"].push_back(b.make_primitive(positions, indices, material));
   }
   mesh["extras"]["epi"]["subdivision"] = subdivision;
