@@ -78,6 +78,6 @@ inline float ggx_reflection_pdf(const glm::vec3& n, const glm::vec3& wo, const g
   return ggx_d(n_dot_h, alpha) * n_dot_h / (4.0f * v_dot_h);
 }
 
-inline float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+inline float rgb_luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 }  // namespace epi

@@ -53,13 +53,32 @@ RayScene::RayScene(const Scene& scene) : scene_(scene) {
     if (scene.objects[o].mesh >= scene.meshes.size())
       throw std::runtime_error(label + ": object '" + scene.objects[o].name + "' refers to mesh " +
                                std::to_string(scene.objects[o].mesh) + " of " + std::to_string(scene.meshes.size()));
-  for (const AreaLight& light : scene.area_lights)
+  for (const AreaLight& light : scene.area_lights) {
     if (light.object >= scene.objects.size())
       throw std::runtime_error(label + ": area light refers to object " + std::to_string(light.object) + " of " +
                                std::to_string(scene.objects.size()));
+    const size_t triangles = light.triangle_materials.size();
+    if (light.triangle_vertices.size() != 3 * triangles || light.triangle_cdf.size() != triangles)
+      throw std::runtime_error(label + ": area light of object '" + scene.objects[light.object].name +
+                               "' has inconsistent triangle, material and CDF counts");
+    for (uint32_t material : light.triangle_materials)
+      if (material >= scene.materials.size())
+        throw std::runtime_error(label + ": area light of object '" + scene.objects[light.object].name +
+                                 "' uses material " + std::to_string(material) + " of " + std::to_string(scene.materials.size()));
+  }
 
+  try {
+    build();
+  } catch (...) {
+    release();
+    throw;
+  }
+}
+
+void RayScene::build() {
+  const Scene& scene = scene_;
   device_ = rtcNewDevice("verbose=0");
-  if (!device_) throw std::runtime_error(label + ": cannot create an Embree device");
+  if (!device_) throw std::runtime_error(scene_label(scene) + ": cannot create an Embree device");
   rtcSetDeviceMemoryMonitorFunction(device_, monitor_memory, &embree_bytes_);
 
   // One Embree scene per mesh, built once.
@@ -115,13 +134,19 @@ RayScene::RayScene(const Scene& scene) : scene_(scene) {
   update_area_light_cdf();
 }
 
-RayScene::~RayScene() {
+RayScene::~RayScene() { release(); }
+
+void RayScene::release() {
   for (RTCGeometry instance : instances_)
     if (instance) rtcReleaseGeometry(instance);
   if (top_) rtcReleaseScene(top_);
   for (RTCScene s : mesh_scenes_)
     if (s) rtcReleaseScene(s);
   if (device_) rtcReleaseDevice(device_);
+  instances_.clear();
+  mesh_scenes_.clear();
+  top_ = nullptr;
+  device_ = nullptr;
 }
 
 void RayScene::set_object_transform(uint32_t object, const glm::mat4& object_to_world) {

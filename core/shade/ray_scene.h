@@ -53,6 +53,8 @@ class RayScene {
   std::vector<MemoryItem> memory() const;
 
  private:
+  void build();
+  void release();
   void update_area_light_cdf();
 
   const Scene& scene_;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include <tbb/blocked_range.h>
 #include <tbb/concurrent_vector.h>
@@ -259,8 +261,8 @@ struct Shader::Tracer {
     Frame frame(n);
     float p_specular = 0.0f;
     if (settings.specular) {
-      float spec = luminance(schlick(brdf.f0, glm::dot(n, s.wo)));
-      float diff = luminance(brdf.diffuse) * (1.0f - spec);
+      float spec = rgb_luminance(schlick(brdf.f0, glm::dot(n, s.wo)));
+      float diff = rgb_luminance(brdf.diffuse) * (1.0f - spec);
       if (spec + diff <= 0.0f) return false;
       p_specular = diff <= 0.0f ? 1.0f : std::clamp(spec / (spec + diff), 0.1f, 0.9f);
     }
@@ -308,7 +310,16 @@ struct Shader::Tracer {
   }
 };
 
-Shader::Shader(const RayScene& scene, const ShaderSettings& settings) : scene_(scene), settings_(settings) {}
+Shader::Shader(const RayScene& scene, const ShaderSettings& settings) : scene_(scene), settings_(settings) {
+  auto require = [](bool ok, const char* what) {
+    if (!ok) throw std::invalid_argument(std::string("shader settings: ") + what);
+  };
+  require(settings.area_light_samples >= 0 && settings.glossy_samples >= 0 && settings.glossy_light_samples >= 0 &&
+              settings.gi_paths >= 0 && settings.gi_light_samples >= 0,
+          "sample counts must not be negative");
+  require(settings.gi_max_bounces >= 0 && settings.gi_roulette_bounce >= 1, "bounce limits must be >= 0 and >= 1");
+  require(settings.ray_offset > 0.0f && settings.ray_offset < 0.1f, "ray_offset must be in (0, 0.1)");
+}
 
 ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& request, std::vector<BlockerTriple>& triples,
                               uint64_t& rays) const {

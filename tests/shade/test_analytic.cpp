@@ -180,6 +180,35 @@ TEST(Analytic, EmissionSeenDirectly) {
   EXPECT_EQ(batch.results[0].color, glm::vec3(0.0f));
 }
 
+TEST(Analytic, MirroredEmitterEmitsFromItsTransformedFront) {
+  // A panel facing +z in object space, mirrored by z -> -z and lifted to z = 1: its front
+  // (the transformed normal) faces down, towards the floor.
+  Scene scene;
+  add_floor(scene);
+  uint32_t emitter = test::add_material(scene, glm::vec3(0.0f), 0.0f, 1.0f, glm::vec3(3.0f));
+  glm::mat4 mirror = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(0, 0, 1)), glm::vec3(1, 1, -1));
+  uint32_t panel = test::add_object(scene, test::quad_mesh({-0.5f, -0.5f, 0}, {1, 0, 0}, {0, 1, 0}, emitter), "panel", mirror);
+  test::add_area_light(scene, panel);
+  RayScene rays(scene);
+  ShaderSettings settings = lambert_settings();
+  settings.area_light_samples = 256;
+  Shader shader(rays, settings);
+  const std::vector<glm::dvec3> square = {{-0.5, -0.5, 1}, {0.5, -0.5, 1}, {0.5, 0.5, 1}, {-0.5, 0.5, 1}};
+  ShadeResult lit = shade_at(shader, low_view(), {0.2f, 0.1f, 0});
+  double expected = kAlbedo / M_PI * polygon_irradiance(square, glm::dvec3(lit.position), {0, 0, 1}, 3.0);
+  EXPECT_NEAR(lit.color.x, expected, 0.02 * expected);
+  ShadeResult seen = shade_at(shader, View{test::look({0.1f, 0.1f, 0.5f}, {0, 0, 1}), 16, 16}, {0, 0, 1});
+  ASSERT_EQ(seen.object, panel);
+  EXPECT_EQ(seen.color, glm::vec3(3.0f));
+  // Moving it keeps the orientation (build_area_light swaps the winding for mirrors too).
+  rays.set_object_transform(panel, glm::translate(glm::mat4(1.0f), glm::vec3(2, 0, 0)) * mirror);
+  ShadeResult moved = shade_at(shader, low_view(), glm::vec3(2.2f, 0.1f, 0));
+  std::vector<glm::dvec3> shifted = square;
+  for (auto& p : shifted) p.x += 2;
+  double expected_moved = kAlbedo / M_PI * polygon_irradiance(shifted, glm::dvec3(moved.position), {0, 0, 1}, 3.0);
+  EXPECT_NEAR(moved.color.x, expected_moved, 0.02 * expected_moved);
+}
+
 // An independent GGX + Schlick + separable Smith evaluation, written out from the formulas.
 double reference_specular(double alpha, double f0, glm::dvec3 n, glm::dvec3 wo, glm::dvec3 wi) {
   glm::dvec3 h = glm::normalize(wo + wi);
