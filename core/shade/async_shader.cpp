@@ -14,8 +14,7 @@ AsyncShader::~AsyncShader() {
   {
     std::lock_guard lock(mutex_);
     stopping_ = true;
-    jobs_.clear();
-    pending_ = 0;
+    jobs_.clear();  // the slice in flight finishes; its results are dropped with this object
   }
   work_ready_.notify_all();
   worker_.join();

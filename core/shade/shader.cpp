@@ -213,7 +213,7 @@ struct Shader::Tracer {
     if (n > 0 && has_area_lights()) {
       glm::vec3 area(0.0f);
       for (int j = 0; j < n; ++j) {
-        Rng own(key, kStreamArea, uint64_t(j));
+        Rng own = stream ? Rng(0) : Rng(key, kStreamArea, uint64_t(j));
         Rng& rng = stream ? *stream : own;
         glm::vec2 u = stratified(j, n, rng);
         area += area_sample(s, brdf, rng.uniform(), u);

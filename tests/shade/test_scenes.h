@@ -14,7 +14,8 @@ namespace epi::test {
 inline uint32_t add_material(Scene& scene, glm::vec3 base, float metallic = 0.0f, float roughness = 1.0f,
                              glm::vec3 emission = glm::vec3(0.0f)) {
   Material m;
-  m.name = "m" + std::to_string(scene.materials.size());
+  m.name = "m";
+  m.name += std::to_string(scene.materials.size());  // (not "m" + ...: GCC 12 warns falsely, bug 105651)
   m.base_color = base;
   m.metallic = metallic;
   m.roughness = roughness;
