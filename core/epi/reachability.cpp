@@ -1,0 +1,95 @@
+#include "epi/reachability.h"
+
+#include <array>
+
+#include "epi/geometry.h"
+#include "epi/tables.h"
+
+namespace epi {
+
+namespace {
+
+struct Step {
+  int index;     // offset (dx, dy) as (dy + 2) * 5 + (dx + 2)
+  int dx, dy;
+  int pred[2];   // predecessor offsets (index), -1 if none; 12 = the centre
+  int dir[2];    // direction of the step from each predecessor
+};
+
+// Offsets in order of Manhattan distance, so predecessors come first.
+std::array<Step, 24> make_steps() {
+  std::array<Step, 24> steps{};
+  int n = 0;
+  for (int dist = 1; dist <= 4; ++dist)
+    for (int dy = -2; dy <= 2; ++dy)
+      for (int dx = -2; dx <= 2; ++dx) {
+        if ((dx < 0 ? -dx : dx) + (dy < 0 ? -dy : dy) != dist) continue;
+        Step s{(dy + 2) * 5 + (dx + 2), dx, dy, {-1, -1}, {0, 0}};
+        int k = 0;
+        if (dx != 0) {
+          const int sx = dx > 0 ? 1 : -1;
+          s.pred[k] = (dy + 2) * 5 + (dx - sx + 2);
+          s.dir[k++] = sx > 0 ? kRight : kLeft;
+        }
+        if (dy != 0) {
+          const int sy = dy > 0 ? 1 : -1;
+          s.pred[k] = (dy - sy + 2) * 5 + (dx + 2);
+          s.dir[k++] = sy > 0 ? kDown : kUp;
+        }
+        steps[size_t(n++)] = s;
+      }
+  return steps;
+}
+
+const std::array<Step, 24>& steps() {
+  static const std::array<Step, 24> s = make_steps();
+  return s;
+}
+
+template <bool kForwardOnly>
+uint32_t reach(const EpiImage& epi, int x, int y) {
+  const EpiTables& t = epi_tables();
+  uint8_t types[25];
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx) {
+      const int px = x + dx, py = y + dy;
+      types[(dy + 2) * 5 + dx + 2] =
+          uint8_t(epi.inside(px, py) ? pixel_type(epi.cache[epi.index(px, py)]) : kTypeComplex);
+    }
+  uint8_t masks[25] = {};
+  uint32_t result = 0;
+  for (const Step& s : steps()) {
+    if constexpr (kForwardOnly)
+      if (!((kForwardBits >> reach_bit(s.dx, s.dy)) & 1)) continue;
+    uint8_t m = 0;
+    for (int k = 0; k < 2 && s.pred[k] >= 0; ++k) {
+      const int p = s.pred[k];
+      const uint8_t step = t.neighbour[s.dir[k]][(types[p] << 4) | types[s.index]];
+      m |= p == 12 ? step : t.chain[(masks[p] << 4) | step];
+    }
+    masks[s.index] = m;
+    if (m & kReachPP) result |= 1u << reach_bit(s.dx, s.dy);
+  }
+  return result;
+}
+
+}  // namespace
+
+uint32_t reach_full(const EpiImage& epi, int x, int y) { return reach<false>(epi, x, y); }
+uint32_t reach_forward(const EpiImage& epi, int x, int y) { return reach<true>(epi, x, y); }
+
+uint32_t reach_from_symmetry(const uint32_t* above1, const uint32_t* above2, int x, int width) {
+  uint32_t result = 0;
+  for (int dy = -2; dy <= -1; ++dy) {
+    const uint32_t* row = dy == -1 ? above1 : above2;
+    if (!row) continue;
+    for (int dx = -2; dx <= 2; ++dx) {
+      const int px = x + dx;
+      if (px < 0 || px >= width) continue;
+      if ((row[px] >> reach_bit(-dx, -dy)) & 1) result |= 1u << reach_bit(dx, dy);
+    }
+  }
+  return result;
+}
+
+}  // namespace epi

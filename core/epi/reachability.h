@@ -1,0 +1,40 @@
+// Reachability over the 5x5 neighbourhood. Footprint: 5x5 of pixel types.
+// Reachability moves from the centre outwards along monotone staircase paths: a pixel at
+// offset (dx, dy) is reached from its one or two side neighbours one step closer to the centre,
+// (dx - sign(dx), dy) and (dx, dy - sign(dy)); each step is a neighbour-table lookup chained
+// onto the path so far, and the paths are OR-combined. Complex pixels (and pixels outside the
+// image) are unreachable and stop propagation. The result is the 24-bit primary-to-primary mask.
+#pragma once
+
+#include <cstdint>
+
+#include "epi/epi_pixel.h"
+
+namespace epi {
+
+// Bit of the 24-bit mask for offset (dx, dy), dx, dy in [-2, 2], not both 0.
+constexpr int reach_bit(int dx, int dy) {
+  const int index = (dy + 2) * 5 + (dx + 2);
+  return index < 12 ? index : index - 1;
+}
+// Offsets of later rows (dy > 0, or dy == 0 and dx > 0): the "forward" half.
+constexpr bool is_forward(int dx, int dy) { return dy > 0 || (dy == 0 && dx > 0); }
+constexpr uint32_t kForwardBits = [] {
+  uint32_t m = 0;
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx)
+      if ((dx || dy) && (is_forward(dx, dy) || (dy == 0 && dx < 0))) m |= 1u << reach_bit(dx, dy);
+  return m;
+}();
+
+// All 24 offsets, computed directly (the oracle).
+uint32_t reach_full(const EpiImage& epi, int x, int y);
+// The forward half and the two offsets to the left, (-1,0) and (-2,0); the rest of the mask
+// comes from symmetry (see reach_from_symmetry).
+uint32_t reach_forward(const EpiImage& epi, int x, int y);
+// Bits for offsets (dx, dy < 0) taken from the masks of the two rows above: bit (dx, dy) of
+// pixel p equals bit (-dx, -dy) of pixel p + (dx, dy). `above1`/`above2` are those rows' masks
+// (nullptr outside the image).
+uint32_t reach_from_symmetry(const uint32_t* above1, const uint32_t* above2, int x, int width);
+
+}  // namespace epi

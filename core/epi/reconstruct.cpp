@@ -1,0 +1,137 @@
+#include "epi/reconstruct.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include "epi/antialias.h"
+#include "epi/complex_filter.h"
+#include "epi/geometry.h"
+#include "epi/interpolate.h"
+#include "epi/reachability.h"
+#include "epi/rendercache.h"
+
+namespace epi {
+
+namespace {
+
+void check_sizes(const EpiImage& epi, const BoundaryMasks& masks) {
+  if (epi.width != masks.width || epi.height != masks.height)
+    throw std::invalid_argument("EPI and boundary masks differ in size");
+}
+
+bool use_complex_filter(const ReconstructSettings& s, const BoundaryMasks& masks) {
+  return s.filter == Filter::epi && s.complex_filter && masks.centre_lines;
+}
+
+// The final colour of pixel (x, y) from the interpolated rows around it.
+void output_pixel(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s, int x, int y,
+                  const float* const rows[3], float out[3]) {
+  const float* own = rows[1] + 3 * x;
+  if (s.filter == Filter::epi) {
+    const int type = pixel_type(epi.cache[epi.index(x, y)]);
+    if (type == kTypeComplex && use_complex_filter(s, masks)) return complex_pixel(epi, masks, x, y, own, out);
+    if (s.antialias && type_is_simple(type)) return antialias_pixel(epi, x, y, rows, out);
+  }
+  out[0] = own[0], out[1] = own[1], out[2] = own[2];
+}
+
+float interpolate(const EpiImage& epi, const ReconstructSettings& s, int x, int y, uint32_t reach, float rgb[3]) {
+  return s.filter == Filter::epi ? interpolate_pixel(epi, x, y, reach, rgb) : rendercache_pixel(epi, x, y, rgb);
+}
+
+}  // namespace
+
+Reconstruction reconstruct_oracle(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s) {
+  check_sizes(epi, masks);
+  const int w = epi.width, h = epi.height;
+  Reconstruction r{RgbImage(w, h), std::vector<float>(size_t(w) * size_t(h)), {}};
+  r.counts = classify_rows(epi, masks, 0, h);
+  if (s.filter == Filter::epi)
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) epi.cache[epi.index(x, y)] |= reach_full(epi, x, y);
+  RgbImage interpolated(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      r.priority[epi.index(x, y)] =
+          interpolate(epi, s, x, y, reach_mask(epi.cache[epi.index(x, y)]), interpolated.at(x, y));
+  for (int y = 0; y < h; ++y) {
+    const float* rows[3] = {y > 0 ? interpolated.at(0, y - 1) : nullptr, interpolated.at(0, y),
+                            y + 1 < h ? interpolated.at(0, y + 1) : nullptr};
+    for (int x = 0; x < w; ++x) output_pixel(epi, masks, s, x, y, rows, r.image.at(x, y));
+  }
+  return r;
+}
+
+Reconstruction reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
+                                 const Schedule& schedule) {
+  check_sizes(epi, masks);
+  const int w = epi.width, h = epi.height;
+  Reconstruction r{RgbImage(w, h), std::vector<float>(size_t(w) * size_t(h)), {}};
+  if (w == 0 || h == 0) return r;
+  const int band_rows = std::max(1, schedule.rows_per_band);
+  const int bands = (h + band_rows - 1) / band_rows;
+  std::vector<ClassCounts> band_counts(static_cast<size_t>(bands));
+  tbb::task_arena arena(schedule.threads > 0 ? schedule.threads : tbb::task_arena::automatic);
+
+  // Pass 1: classification (1x1 footprint), every band writes only its own rows.
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const tbb::blocked_range<int>& range) {
+      for (int b = range.begin(); b != range.end(); ++b)
+        band_counts[size_t(b)] = classify_rows(epi, masks, b * band_rows, std::min(h, (b + 1) * band_rows));
+    }, tbb::simple_partitioner());
+  });
+  for (const ClassCounts& c : band_counts) {
+    r.counts.empty += c.empty, r.counts.simple += c.simple, r.counts.complex += c.complex;
+    r.counts.samples += c.samples, r.counts.ambiguous += c.ambiguous;
+  }
+
+  // Pass 2: per band, rows stream through reachability -> interpolation -> output with four
+  // live rows of each; the band recomputes the one halo row above and below it.
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const tbb::blocked_range<int>& range) {
+      std::vector<uint32_t> reach_ring(size_t(w) * 4);
+      std::vector<float> color_ring(size_t(w) * 3 * 4);
+      auto reach_row = [&](int y) { return &reach_ring[size_t(y & 3) * size_t(w)]; };
+      auto color_row = [&](int y) { return &color_ring[size_t(y & 3) * size_t(w) * 3]; };
+      for (int b = range.begin(); b != range.end(); ++b) {
+        const int y0 = b * band_rows, y1 = std::min(h, y0 + band_rows);
+        const int first = std::max(0, y0 - 1), last = std::min(h - 1, y1);
+        auto emit = [&](int y) {  // output row y once rows y-1..y+1 are interpolated
+          const float* rows[3] = {y > 0 ? color_row(y - 1) : nullptr, color_row(y),
+                                  y + 1 < h ? color_row(y + 1) : nullptr};
+          for (int x = 0; x < w; ++x) output_pixel(epi, masks, s, x, y, rows, r.image.at(x, y));
+        };
+        for (int y = first; y <= last; ++y) {
+          uint32_t* reach = reach_row(y);
+          const bool owned = y >= y0 && y < y1;
+          if (s.filter == Filter::epi) {
+            if (y < first + 2) {
+              for (int x = 0; x < w; ++x) reach[x] = reach_full(epi, x, y);
+            } else {  // the half towards earlier rows comes from their masks, by symmetry
+              const uint32_t* above1 = reach_row(y - 1);
+              const uint32_t* above2 = reach_row(y - 2);
+              for (int x = 0; x < w; ++x)
+                reach[x] = reach_forward(epi, x, y) | reach_from_symmetry(above1, above2, x, w);
+            }
+            if (owned)
+              for (int x = 0; x < w; ++x) epi.cache[epi.index(x, y)] |= reach[x];
+          }
+          float* colors = color_row(y);
+          for (int x = 0; x < w; ++x) {
+            const float p = interpolate(epi, s, x, y, reach[x], colors + 3 * x);
+            if (owned) r.priority[epi.index(x, y)] = p;
+          }
+          if (y - 1 >= y0 && y - 1 < y1) emit(y - 1);
+        }
+        if (y1 == h) emit(h - 1);
+      }
+    }, tbb::simple_partitioner());
+  });
+  return r;
+}
+
+}  // namespace epi

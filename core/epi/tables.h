@@ -1,0 +1,52 @@
+// The lookup tables of the EPI filters, generated from the cell geometry at start-up
+// (never typed in). tests/epi/tables_test.cpp checks every entry against brute force.
+#pragma once
+
+#include <cstdint>
+
+namespace epi {
+
+// Reachability masks between pixels a and b, 4 bits: Pa-Pb, Pa-Sb, Sa-Pb, Sa-Sb.
+constexpr uint8_t kReachPP = 1, kReachPS = 2, kReachSP = 4, kReachSS = 8;
+
+// Directions from a pixel to its side neighbour.
+enum Direction : int { kRight = 0, kDown = 1, kLeft = 2, kUp = 3 };
+constexpr int kDirDx[4] = {1, 0, -1, 0};
+constexpr int kDirDy[4] = {0, 1, 0, -1};
+
+// Neighbours for the secondary colour: the four sides first, then the diagonals.
+constexpr int kNeighbourDx[8] = {1, 0, -1, 0, 1, -1, -1, 1};
+constexpr int kNeighbourDy[8] = {0, 1, 0, -1, 1, 1, -1, -1};
+
+struct EpiTables {
+  // Sample sidedness: per edge code, 2 bits per sample region (0 A, 1 B, 2 ambiguous).
+  uint32_t sidedness[1024];
+  // Area of region A, in units of 1/65535 of the pixel.
+  uint16_t area_a[1024];
+  // Secondary-colour neighbour (index into kNeighbourDx/Dy): low nibble when A is secondary,
+  // high nibble when B is secondary.
+  uint8_t secondary_neighbour[1024];
+  // Neighbour reachability: [direction][(type_a << 4) | type_b] -> 4-bit mask a <-> b.
+  uint8_t neighbour[4][256];
+  // Chaining: [(a<->b) << 4 | (b<->d)] -> a<->d.
+  uint8_t chain[256];
+
+  int side(int code, int region) const { return int(sidedness[code] >> (2 * region)) & 3; }
+  float area_of_a(int code) const { return float(area_a[code]) * (1.0f / 65535.0f); }
+  int neighbour_for_secondary(int code, bool secondary_is_b) const {
+    return secondary_is_b ? secondary_neighbour[code] >> 4 : secondary_neighbour[code] & 15;
+  }
+};
+static_assert(sizeof(EpiTables) <= 16 * 1024, "the tables must stay under 16 KB");
+
+// Generated once, on first use (thread-safe).
+const EpiTables& epi_tables();
+
+// Pieces of the generation, exposed for the tests.
+EpiTables generate_tables();
+// Which region of a pixel of this type touches its side `side`, and which part of it:
+// returned as up to two (region, part) entries; part 0 whole side, 1 before the crossing
+// (clockwise), 2 after it. region 0 = primary, 1 = secondary. Returns the count.
+int regions_on_side(int type, int side, int regions[2], int parts[2]);
+
+}  // namespace epi
