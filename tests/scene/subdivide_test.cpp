@@ -229,6 +229,24 @@ TEST(Subdivide, LimitNormalsMatchTheSurface) {
     EXPECT_GT(glm::dot(m.normals[v], glm::normalize(face_sum[v])), 0.99f) << v;
 }
 
+TEST(Subdivide, LimitNormalsAreNormalToTheLimitSurface) {
+  // A vertex keeps its index across levels, so its neighbours at a deep level trace the limit
+  // surface around it: chords to them are perpendicular to the limit normal computed at level 1
+  // (face-averaged normals of the coarse level 1 mesh would be off by several degrees).
+  const ControlMesh cage = torus_cage(5, 4);
+  const SubdividedMesh coarse = subdivide(cage, SubdivisionScheme::catmull_clark, 1);
+  const SubdividedMesh fine = subdivide(cage, SubdivisionScheme::catmull_clark, 6);
+  std::vector<float> worst(coarse.positions.size(), 0.0f);
+  for (const glm::uvec3& t : fine.triangles)
+    for (int i = 0; i < 3; ++i) {
+      const uint32_t v = t[i], w = t[(i + 1) % 3];
+      if (v >= coarse.positions.size()) continue;
+      const glm::vec3 chord = glm::normalize(fine.positions[w] - fine.positions[v]);
+      worst[v] = std::max(worst[v], std::abs(glm::dot(chord, coarse.normals[v])));
+    }
+  for (size_t v = 0; v < worst.size(); ++v) EXPECT_LT(worst[v], 0.03f) << v;
+}
+
 TEST(Subdivide, OpenSurfaceKeepsBoundaryAndCorners) {
   // A 2x2 grid of quads in the xz plane, facing +y.
   ControlMesh cage;

@@ -1,0 +1,20 @@
+# cmake -DGENERATOR=<make_scenes> -DOUTPUT=<dir> -DREFERENCE=<scenes dir> -P check_scenes.cmake
+# Runs the generator into OUTPUT and fails unless every file equals the committed one byte for byte.
+file(REMOVE_RECURSE ${OUTPUT})
+execute_process(COMMAND ${GENERATOR} ${OUTPUT} RESULT_VARIABLE result OUTPUT_QUIET)
+if(NOT result EQUAL 0)
+  message(FATAL_ERROR "make_scenes failed (${result})")
+endif()
+file(GLOB generated RELATIVE ${OUTPUT} ${OUTPUT}/*.gltf)
+file(GLOB committed RELATIVE ${REFERENCE} ${REFERENCE}/*.gltf)
+if(NOT "${generated}" STREQUAL "${committed}")
+  message(FATAL_ERROR "scenes differ: generated [${generated}], committed [${committed}]")
+endif()
+foreach(name ${generated})
+  execute_process(COMMAND ${CMAKE_COMMAND} -E compare_files ${OUTPUT}/${name} ${REFERENCE}/${name} RESULT_VARIABLE differ)
+  if(NOT differ EQUAL 0)
+    message(FATAL_ERROR "${REFERENCE}/${name} differs from the generator's output ${OUTPUT}/${name}: "
+                        "rebuild the target update_scenes and commit the result")
+  endif()
+endforeach()
+message(STATUS "${generated}: identical to the generator's output")
