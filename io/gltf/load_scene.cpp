@@ -815,10 +815,20 @@ Scene load(const std::filesystem::path& file, const LoadOptions& options) {
     if (!kSupportedRequiredExtensions.count(name.get<std::string>()))
       fail("required extension " + name.get<std::string>() + " is not supported");
 
-  for (size_t i = 0; i < document.value("nodes", json::array()).size(); ++i) {
-    const json& node = document["nodes"][i];  // tinygltf drops TRS silently when a matrix is present
-    if (node.contains("matrix") && (node.contains("translation") || node.contains("rotation") || node.contains("scale")))
-      fail("node " + std::to_string(i) + " has both a matrix and translation/rotation/scale");
+  if (document.contains("nodes")) {
+    const json& nodes = document["nodes"];
+    for (size_t i = 0; i < nodes.size(); ++i) {  // tinygltf drops TRS silently when a matrix is present
+      const json& node = nodes[i];
+      if (node.contains("matrix") && (node.contains("translation") || node.contains("rotation") || node.contains("scale")))
+        fail("node " + std::to_string(i) + " has both a matrix and translation/rotation/scale");
+    }
+  }
+
+  if (document.contains("extensions") && document["extensions"].contains("KHR_lights_punctual")) {
+    const json& lights = document["extensions"]["KHR_lights_punctual"].value("lights", json::array());
+    for (size_t i = 0; i < lights.size(); ++i)
+      if (lights[i].value("type", "") == "spot" && !lights[i].contains("spot"))
+        fail("light " + std::to_string(i) + ": a spot light needs a 'spot' object");
   }
 
   const tinygltf::Model model = parse_with_tinygltf(contents, file);

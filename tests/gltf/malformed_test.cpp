@@ -180,6 +180,10 @@ const std::vector<Case> kCases = {
            {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.8}, {"outerConeAngle", 0.5}}}}};
        b.doc["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 0;
      }, "spot cone angles"},
+    {"spot without cone", [](GltfBuilder& b) {
+       b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "spot"}}};
+       b.doc["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 0;
+     }, "light 0: a spot light needs a 'spot' object"},
     {"deep json", [](GltfBuilder& b) {
        json deep = 1;
        for (int i = 0; i < 5000; ++i) {
@@ -384,6 +388,50 @@ TEST(Malformed, RandomCorruptionFailsCleanly) {
   }
   EXPECT_GT(rejected, 100);
   EXPECT_GT(loaded, 10);
+}
+
+// Property test at the JSON level: replace one number of a valid document (an index, a count,
+// an offset, a factor) by an awkward value; the result loads consistently or fails cleanly.
+TEST(Malformed, RandomNumberReplacementFailsCleanly) {
+  TempDir dir;
+  GltfBuilder base = valid_scene();
+  base.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.1}}}}};
+  base.doc["nodes"][1]["camera"] = 0;
+  base.doc["nodes"][1]["translation"] = {0, 0, 4};
+  base.doc["materials"][0]["emissiveFactor"] = {1, 1, 1};
+  base.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+      {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.1}, {"outerConeAngle", 0.6}}}}};
+  base.doc["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 0;
+  EXPECT_EQ(load_error(base.write_gltf(dir / "base.gltf")), "");
+  // Paths to every number in the document.
+  std::vector<json::json_pointer> numbers;
+  const json flat = base.doc.flatten();
+  for (const auto& [pointer, value] : flat.items())
+    if (value.is_number()) numbers.emplace_back(pointer);
+  const json awkward = {0, 1, 2, 3, 4, 7, 12, 13, 255, 65535, 4294967295u, 2147483647, -1, 0.5, 1e30, -1e30, 1e-30, 4.5};
+  std::mt19937 rng(99);
+  int loaded = 0, rejected = 0;
+  for (int iteration = 0; iteration < 600; ++iteration) {
+    GltfBuilder b = base;
+    for (int k = 0; k < 1 + iteration % 2; ++k)
+      b.doc[numbers[rng() % numbers.size()]] = awkward[rng() % awkward.size()];
+    const auto file = iteration % 2 ? b.write_glb(dir / "n.glb") : b.write_gltf(dir / "n.gltf");
+    try {
+      const Scene scene = load_scene(file);
+      for (const Object& o : scene.objects) ASSERT_LT(o.mesh, scene.meshes.size());
+      for (const Mesh& m : scene.meshes)
+        for (const glm::uvec3& t : m.triangles) ASSERT_LT(std::max({t.x, t.y, t.z}), m.positions.size());
+      for (const AreaLight& l : scene.area_lights) ASSERT_EQ(l.triangle_vertices.size(), 3 * l.triangle_cdf.size());
+      ++loaded;
+    } catch (const SceneLoadError& e) {
+      const std::string what = e.what();
+      ASSERT_EQ(what.find('\n'), std::string::npos) << what;
+      ASSERT_EQ(what.rfind(file.string() + ": ", 0), 0u) << what;
+      ++rejected;
+    }
+  }
+  EXPECT_GT(loaded, 50);
+  EXPECT_GT(rejected, 200);
 }
 
 }  // namespace
