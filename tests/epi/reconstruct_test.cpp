@@ -1,0 +1,170 @@
+// Reachability properties, and the tiled parallel reconstructor against the oracle, bit for bit.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "epi/interpolate.h"
+#include "epi/reachability.h"
+#include "epi/reconstruct.h"
+#include "test_util.h"
+
+namespace epi {
+namespace {
+
+bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+TEST(Reachability, EmptyImageReachesTheWholeNeighbourhood) {
+  EpiImage epi(9, 9);
+  BoundaryMasks masks(9, 9, false);
+  classify_rows(epi, masks, 0, 9);
+  EXPECT_EQ(reach_full(epi, 4, 4), 0xffffffu);
+  // Corner pixel: only the offsets inside the image.
+  const uint32_t corner = reach_full(epi, 0, 0);
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx)
+      if (dx || dy) {
+        EXPECT_EQ((corner >> reach_bit(dx, dy)) & 1, uint32_t(dx >= 0 && dy >= 0)) << dx << "," << dy;
+      }
+}
+
+TEST(Reachability, ComplexPixelsBlockPropagation) {
+  EpiImage epi(9, 9);
+  BoundaryMasks masks(9, 9, false);
+  // Make pixel (5,4) complex: three crossings on its top side.
+  masks.top[masks.index(5, 4)] = 0b10101;
+  classify_rows(epi, masks, 0, 9);
+  ASSERT_EQ(pixel_type(epi.cache[epi.index(5, 4)]), kTypeComplex);
+  const uint32_t m = reach_full(epi, 4, 4);
+  EXPECT_FALSE((m >> reach_bit(1, 0)) & 1);
+  EXPECT_FALSE((m >> reach_bit(2, 0)) & 1);  // only reachable through (5,4)
+  EXPECT_TRUE((m >> reach_bit(2, 1)) & 1);   // around it
+  EXPECT_TRUE((m >> reach_bit(1, 1)) & 1);
+}
+
+TEST(Reachability, AStraightEdgeSeparatesItsSides) {
+  for (double x_edge : {4.3, 4.5, 4.9}) {
+    EpiImage epi(9, 9);
+    BoundaryMasks masks(9, 9, false);
+    const Segment s{x_edge - 0.2, -5.0, x_edge + 0.2, 15.0};
+    rasterize_edges(masks, std::span<const Segment>(&s, 1));
+    classify_rows(epi, masks, 0, 9);
+    for (int y = 2; y < 7; ++y)
+      for (int x = 0; x < 9; ++x) {
+        const uint32_t m = reach_full(epi, x, y);
+        for (int dx = -2; dx <= 2; ++dx)
+          for (int dy = -2; dy <= 2; ++dy) {
+            if (!(dx || dy) || x + dx < 0 || x + dx > 8) continue;
+            // Empty pixels on opposite sides never reach each other.
+            if (x == 4 || x + dx == 4) continue;
+            EXPECT_EQ((m >> reach_bit(dx, dy)) & 1, uint32_t((x < 4) == (x + dx < 4))) << x << "," << y;
+          }
+      }
+  }
+}
+
+TEST(Reachability, IsSymmetricOnRandomPatterns) {
+  for (uint64_t seed = 1; seed <= 6; ++seed) {
+    test::Built b = test::build(test::random_pattern(40, 30, 12, seed), 0.5, seed);
+    classify_rows(b.epi, b.masks, 0, 30);
+    std::vector<uint32_t> masks(40 * 30);
+    for (int y = 0; y < 30; ++y)
+      for (int x = 0; x < 40; ++x) masks[size_t(y * 40 + x)] = reach_full(b.epi, x, y);
+    for (int y = 0; y < 30; ++y)
+      for (int x = 0; x < 40; ++x)
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dx = -2; dx <= 2; ++dx) {
+            if (!(dx || dy) || !b.epi.inside(x + dx, y + dy)) continue;
+            ASSERT_EQ((masks[size_t(y * 40 + x)] >> reach_bit(dx, dy)) & 1,
+                      (masks[size_t((y + dy) * 40 + x + dx)] >> reach_bit(-dx, -dy)) & 1);
+          }
+  }
+}
+
+struct Case {
+  ReconstructSettings settings;
+  double density;
+};
+
+std::vector<Case> cases() {
+  std::vector<Case> out;
+  for (double d : {0.0, 0.1, 0.5, 1.0}) {
+    out.push_back({{Filter::epi, true, true}, d});
+    out.push_back({{Filter::epi, false, true}, d});
+    out.push_back({{Filter::epi, true, false}, d});
+    out.push_back({{Filter::rendercache, false, false}, d});
+  }
+  return out;
+}
+
+void expect_tiled_equals_oracle(const Pattern& pattern, const Case& c, uint64_t seed, std::vector<Schedule> schedules) {
+  test::Built b = test::build(pattern, c.density, seed);
+  EpiImage oracle_epi = b.epi;
+  const Reconstruction oracle = reconstruct_oracle(oracle_epi, b.masks, c.settings);
+  for (const Schedule& s : schedules) {
+    EpiImage epi = b.epi;
+    const Reconstruction tiled = reconstruct_tiled(epi, b.masks, c.settings, s);
+    ASSERT_TRUE(same_bits(oracle.image.pixels, tiled.image.pixels))
+        << pattern.width << "x" << pattern.height << " rows " << s.rows_per_band << " threads " << s.threads;
+    ASSERT_TRUE(same_bits(oracle.priority, tiled.priority));
+    ASSERT_EQ(oracle_epi.edge, epi.edge);
+    ASSERT_EQ(oracle_epi.cache, epi.cache);
+    ASSERT_EQ(oracle.counts.simple, tiled.counts.simple);
+    ASSERT_EQ(oracle.counts.complex, tiled.counts.complex);
+  }
+}
+
+TEST(Tiled, BitIdenticalToTheOracleForAnyBandAndThreadCount) {
+  std::vector<Schedule> schedules;
+  for (int rows : {1, 2, 3, 5, 16, 1000})
+    for (int threads : {1, 2}) schedules.push_back({rows, threads});
+  uint64_t seed = 1;
+  for (const Case& c : cases())
+    expect_tiled_equals_oracle(test::random_pattern(37, 29, 25, seed), c, seed, schedules), ++seed;
+  for (const char* name : {"checker.json", "discs.json"})
+    expect_tiled_equals_oracle(load_pattern(test::pattern_path(name)), {{Filter::epi, true, true}, 0.3}, 5,
+                               {{1, 2}, {7, 2}, {32, 1}});
+}
+
+TEST(Tiled, TinyAndThinImages) {
+  for (auto [w, h] : {std::pair{1, 1}, {1, 9}, {9, 1}, {2, 2}, {3, 2}}) {
+    Pattern p = test::random_pattern(w, h, 4, uint64_t(w * 10 + h));
+    for (const Case& c : cases()) expect_tiled_equals_oracle(p, c, 3, {{1, 1}, {1, 2}, {2, 2}, {64, 2}});
+  }
+}
+
+TEST(Tiled, FourKImage) {
+  Pattern p = test::random_pattern(3840, 2160, 60, 99);
+  expect_tiled_equals_oracle(p, {{Filter::epi, true, true}, 0.1}, 4, {{32, 2}});
+}
+
+TEST(Reconstruct, NoSamplesGiveBlackAtTopPriority) {
+  test::Built b = test::build(test::random_pattern(20, 20, 5, 3), 0.0, 1);
+  const Reconstruction r = reconstruct_tiled(b.epi, b.masks, {});
+  for (float v : r.image.pixels) EXPECT_EQ(v, 0.0f);
+  for (float p : r.priority) EXPECT_EQ(p, kMaxPriority);
+}
+
+TEST(Reconstruct, UniformColourIsReproducedEverywhere) {
+  Pattern p;
+  p.width = 17, p.height = 11;
+  p.background = {0.25f, 0.5f, 0.75f};
+  for (double d : {1.0, 0.2}) {
+    test::Built b = test::build(p, d, 8);
+    const Reconstruction r = reconstruct_oracle(b.epi, b.masks, {});
+    float expected[3];
+    decode_color(b.epi.color[b.epi.index(0, 0)] | 0, expected);
+    for (size_t i = 0; i < r.image.pixels.size(); ++i) EXPECT_NEAR(r.image.pixels[i], p.background[i % 3], 4e-3);
+  }
+}
+
+TEST(Reconstruct, MismatchedSizesAreRejected) {
+  EpiImage epi(4, 4);
+  BoundaryMasks masks(5, 4, false);
+  EXPECT_THROW(reconstruct_oracle(epi, masks, {}), std::invalid_argument);
+  EXPECT_THROW(reconstruct_tiled(epi, masks, {}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace epi
