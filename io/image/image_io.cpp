@@ -20,7 +20,7 @@ std::string lower_extension(const fs::path& file) {
   return ext;
 }
 
-constexpr std::array kLinearExtensions = {".exr", ".hdr", ".pfm"};
+constexpr std::array kLinearExtensions = {".exr", ".hdr"};
 constexpr std::array kEightBitExtensions = {".png", ".jpg", ".jpeg", ".tif", ".tiff", ".ppm", ".bmp", ".tga"};
 
 [[noreturn]] void fail(const fs::path& file, const std::string& problem) {
@@ -64,6 +64,7 @@ void write_image(const fs::path& file, const RgbImage& image) {
   if (!out) fail(file, "no writer for this format: " + OIIO::geterror());
   OIIO::ImageSpec spec(image.width, image.height, 3, linear ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   if (!linear) spec.attribute("oiio:ColorSpace", "sRGB");
+  spec.attribute("DateTime", "");  // no timestamp: the same image always gives the same bytes
   bool ok = out->open(temporary.string(), spec);
   if (ok) {
     if (linear) {

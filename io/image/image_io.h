@@ -1,5 +1,5 @@
 // Image files through OpenImageIO. The format follows the file extension:
-// .exr (and .hdr, .pfm) keep linear float RGB; .png, .jpg, .tif, .ppm, .bmp get 8-bit sRGB
+// .exr (and .hdr) keep linear float RGB; .png, .jpg, .tif, .ppm, .bmp get 8-bit sRGB
 // after a plain clamp to [0, 1] (a documented, invertible-below-1 tone map).
 #pragma once
 
@@ -23,6 +23,7 @@ bool is_linear_format(const std::filesystem::path& file);
 void check_output_path(const std::filesystem::path& file);
 
 // Writes atomically: a temporary file beside `file`, renamed into place only when complete.
+// The bytes depend only on the pixels (no timestamp), so equal images give equal files.
 void write_image(const std::filesystem::path& file, const RgbImage& image);
 
 // Reads any format OpenImageIO knows into linear RGB (8-bit formats are decoded from sRGB).

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ctime>
 #include <filesystem>
+#include <fstream>
 
 namespace fs = std::filesystem;
 using namespace epi;
@@ -79,4 +81,20 @@ TEST(ImageIO, NoTemporaryFilesLeftBehind) {
     EXPECT_EQ(entry.path().filename().string().rfind(".tmp-", 0), std::string::npos);
   }
   EXPECT_EQ(files, 2);
+}
+
+TEST(ImageIO, EqualImagesGiveEqualFilesWithoutTimestamps) {
+  const fs::path dir = temp_dir();
+  char today[32];
+  const std::time_t now = std::time(nullptr);
+  std::strftime(today, sizeof today, "%Y:%m:%d", std::localtime(&now));
+  for (const char* ext : {".exr", ".png"}) {
+    write_image(dir / (std::string("first") + ext), gradient(16, 9));
+    write_image(dir / (std::string("second") + ext), gradient(16, 9));
+    std::ifstream a(dir / (std::string("first") + ext), std::ios::binary), b(dir / (std::string("second") + ext), std::ios::binary);
+    const std::string bytes_a((std::istreambuf_iterator<char>(a)), {}), bytes_b((std::istreambuf_iterator<char>(b)), {});
+    EXPECT_FALSE(bytes_a.empty());
+    EXPECT_TRUE(bytes_a == bytes_b) << ext;
+    EXPECT_EQ(bytes_a.find(today), std::string::npos) << ext << " carries a timestamp";
+  }
 }
