@@ -594,18 +594,18 @@ Gltf chains() {
   // A horizontal chain, a chain sagging on a slant, and one hanging down through the scene.
   chain("steel_chain", steel, glm::rotate(glm::translate(mat4(1.0f), vec3(-0.45f, 0.16f, 0.25f)), radians(-12.0f), vec3(0, 1, 0)), 4);
   chain("gold_chain", gold,
-        glm::rotate(glm::rotate(glm::translate(mat4(1.0f), vec3(-0.2f, 0.45f, -0.35f)), radians(35.0f), vec3(0, 1, 0)),
+        glm::rotate(glm::rotate(glm::translate(mat4(1.0f), vec3(-0.45f, 0.42f, -0.05f)), radians(10.0f), vec3(0, 1, 0)),
                     radians(-15.0f), vec3(0, 0, 1)),
         4);
   chain("red_chain", red,
-        glm::rotate(glm::rotate(glm::translate(mat4(1.0f), vec3(0.35f, 0.95f, 0.05f)), radians(-90.0f), vec3(0, 0, 1)),
+        glm::rotate(glm::rotate(glm::translate(mat4(1.0f), vec3(0.3f, 0.9f, -0.45f)), radians(-90.0f), vec3(0, 0, 1)),
                     radians(20.0f), vec3(1, 0, 0)),
         4);
 
   g.point_light("point", {0.9f, 1.9f, 0.7f}, kWarmLight, 6.0f);
   g.spot_light("spot", {-1.3f, 1.6f, -0.9f}, {0.0f, 0.3f, 0.0f}, kCoolLight, 8.0f, 18.0f, 28.0f);
-  g.camera("camera", {{1.5f, 1.05f, 1.7f}, {0.0f, 0.38f, 0.0f}, {0, 1, 0}, 40.0f});
-  g.camera_path(orbit({0.0f, 0.38f, 0.0f}, 2.2f, 0.7f, 0.15f, 40.0f, 60, 40.0f));
+  g.camera("camera", {{1.15f, 0.8f, 1.3f}, {0.0f, 0.4f, 0.0f}, {0, 1, 0}, 40.0f});
+  g.camera_path(orbit({0.0f, 0.4f, 0.0f}, 1.75f, 0.45f, 0.15f, 40.0f, 60, 40.0f));
   return g;
 }
 
@@ -659,7 +659,8 @@ Gltf grid_dragon() {
   // An organic body: a stretched sphere with lumps along it, a raised "head" at +x.
   auto shape = [](vec3 d) {
     const float lumps = 0.10f * std::sin(5.0f * d.x + 1.3f) * std::sin(4.0f * d.y - 0.7f) * std::cos(3.0f * d.z + 0.4f) +
-                        0.06f * std::sin(9.0f * d.x) * std::cos(7.0f * d.z + 2.0f);
+                        0.06f * std::sin(9.0f * d.x) * std::cos(7.0f * d.z + 2.0f) +
+                        0.08f * std::max(0.0f, d.y) * std::pow(std::abs(std::sin(12.0f * d.x)), 3.0f);  // ridges on the back
     vec3 p = d * (1.0f + lumps);
     p *= vec3(0.75f, 0.42f, 0.38f);
     p.y += 0.12f * std::max(0.0f, d.x) * std::max(0.0f, d.x);  // the head rises
@@ -687,8 +688,8 @@ Gltf grid_dragon() {
   g.object("area_light",
            g.mesh("area_light", {{quad({-s, -s, 0}, {s, -s, 0}, {s, s, 0}, {-s, s, 0}, {0, 0, 1}), light}}),
            look_from({-1.8f, 1.6f, 1.4f}, {0.0f, 0.3f, 0.0f}) * glm::rotate(mat4(1.0f), kPi, vec3(0, 1, 0)));
-  g.camera("camera", {{2.0f, 1.35f, 2.2f}, {0.0f, 0.4f, 0.0f}, {0, 1, 0}, 40.0f});
-  g.camera_path(orbit({0.0f, 0.4f, 0.0f}, 3.0f, 1.0f, 0.2f, 40.0f, 60, 42.0f));
+  g.camera("camera", {{2.3f, 1.9f, 2.6f}, {0.0f, 0.55f, 0.0f}, {0, 1, 0}, 40.0f});
+  g.camera_path(orbit({0.0f, 0.55f, 0.0f}, 3.4f, 1.3f, 0.2f, 40.0f, 60, 42.0f));
   return g;
 }
 
@@ -772,7 +773,7 @@ Gltf rooms() {
   g.object("panel_a", ceiling_panel, glm::translate(mat4(1.0f), vec3(2.0f, y, 2.0f)));
   g.object("panel_b", ceiling_panel, glm::translate(mat4(1.0f), vec3(2.0f, y, 6.0f)));
   g.point_light("bedroom_lamp", {6.0f, 2.2f, 2.0f}, kWarmLight, 4.0f);
-  g.point_light("floor_lamp", {0.5f, 1.6f, 0.5f}, kWarmLight, 2.0f);
+  g.point_light("floor_lamp", {0.6f, 1.5f, 3.3f}, kWarmLight, 2.0f);
   g.point_light("hall_lamp", {6.0f, 2.3f, 6.0f}, kWhiteLight, 3.0f);
   g.spot_light("table_spot", {6.8f, 2.5f, 5.0f}, {6.2f, 0.76f, 6.0f}, kWhiteLight, 10.0f, 20.0f, 30.0f);
   g.spot_light("bed_spot", {4.3f, 2.5f, 3.6f}, {6.5f, 0.5f, 1.0f}, kCoolLight, 8.0f, 15.0f, 25.0f);
