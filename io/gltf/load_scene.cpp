@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
@@ -35,7 +36,7 @@ using gltf::describe_json;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxSubdivisionLevel = 8;
-constexpr uint64_t kMaxRefinedTriangles = uint64_t(1) << 26;  // per primitive: ~2 GB of refined mesh
+constexpr uint64_t kMaxRefinedTriangles = uint64_t(1) << 26;  // ~2.4 GB of refined mesh, over the whole scene
 const std::set<std::string> kSupportedRequiredExtensions{"KHR_lights_punctual", "KHR_materials_emissive_strength"};
 
 [[noreturn]] void fail(const std::string& problem) { throw std::runtime_error(problem); }
@@ -213,6 +214,7 @@ std::vector<int> check_node_forest(const tinygltf::Model& model) {
     for (int child : node.children) {
       check_index(child, n, "node", where + " children");
       if (size_t(child) == i) fail(where + " is its own child");
+      if (parent[size_t(child)] == int(i)) fail(where + " lists child " + std::to_string(child) + " twice");
       if (parent[size_t(child)] != -1)
         fail("node " + std::to_string(child) + " has two parents (nodes " + std::to_string(parent[size_t(child)]) +
              " and " + std::to_string(i) + ")");
@@ -276,6 +278,8 @@ glm::dmat4 local_transform(const tinygltf::Node& node, size_t index) {
     glm::dmat4 m;
     for (int c = 0; c < 4; ++c)
       for (int r = 0; r < 4; ++r) m[c][r] = node.matrix[size_t(c * 4 + r)];  // column-major, as glTF
+    if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
+      fail(where + ": matrix is not affine (its last row must be 0 0 0 1)");
     return m;
   }
   glm::dmat4 m(1.0);
@@ -564,8 +568,9 @@ struct BuiltMesh {
   std::vector<std::string> repairs;
 };
 
+// `refined_budget`: how many more triangles subdivision may make in this scene.
 BuiltMesh build_mesh(const tinygltf::Model& model, const json& document, size_t mesh_index, uint32_t default_material,
-                     const LoadOptions& options) {
+                     const LoadOptions& options, uint64_t& refined_budget) {
   const tinygltf::Mesh& source = model.meshes[mesh_index];
   BuiltMesh built;
   Mesh& mesh = built.mesh;
@@ -593,9 +598,11 @@ BuiltMesh build_mesh(const tinygltf::Model& model, const json& document, size_t 
       mesh.subdivision.control_faces += uint32_t(cage.face_sizes.size());
       // At most 2 * 4^level triangles per cage face (quads split in two; triangles give 3 quads at level 1).
       const uint64_t refined_triangles = uint64_t(cage.face_sizes.size()) << (2 * request.level + 1);
-      if (refined_triangles > kMaxRefinedTriangles)
+      if (refined_triangles > refined_budget)
         fail(primitive_where + ": subdivision level " + std::to_string(request.level) + " would make up to " +
-             std::to_string(refined_triangles) + " triangles (limit " + std::to_string(kMaxRefinedTriangles) + ")");
+             std::to_string(refined_triangles) + " triangles (limit " + std::to_string(kMaxRefinedTriangles) +
+             " for the scene)");
+      refined_budget -= refined_triangles;
       SubdividedMesh refined;
       try {
         refined = subdivide(cage, request.scheme, request.level);
@@ -861,12 +868,13 @@ Scene load(const std::filesystem::path& file, const LoadOptions& options) {
   std::map<size_t, uint32_t> mesh_of;  // glTF mesh -> scene mesh, kNone when it has no triangles
   std::map<std::string, int> names;
   std::map<size_t, size_t> objects_dropped;
+  uint64_t refined_budget = kMaxRefinedTriangles;
   for (const NodeVisit& visit : visits) {
     const tinygltf::Node& node = model.nodes[visit.node];
     if (node.mesh < 0) continue;
     const size_t gltf_mesh = size_t(node.mesh);
     if (!mesh_of.count(gltf_mesh)) {
-      BuiltMesh built = build_mesh(model, document, gltf_mesh, default_material, options);
+      BuiltMesh built = build_mesh(model, document, gltf_mesh, default_material, options, refined_budget);
       scene.repairs.insert(scene.repairs.end(), built.repairs.begin(), built.repairs.end());
       if (built.mesh.triangles.empty()) {
         mesh_of[gltf_mesh] = kNone;

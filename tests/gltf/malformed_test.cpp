@@ -161,6 +161,10 @@ const std::vector<Case> kCases = {
        b.doc["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
        b.doc["nodes"][0]["scale"] = {1, 1, 1};
      }, "both a matrix and"},
+    {"projective matrix", [](GltfBuilder& b) {
+       b.doc["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0.5, 0, 0, 0, 1};
+     }, "node 0: matrix is not affine"},
+    {"child twice", [](GltfBuilder& b) { b.doc["nodes"][1]["children"] = {0, 0}; }, "node 1 lists child 0 twice"},
     {"zero quaternion", [](GltfBuilder& b) { b.doc["nodes"][0]["rotation"] = {0, 0, 0, 0}; }, "zero length"},
     {"transform overflow", [](GltfBuilder& b) {
        b.doc["nodes"][1]["scale"] = {1e30, 1e30, 1e30};
@@ -321,7 +325,7 @@ TEST(Malformed, SubdivisionRequests) {
   for (uint32_t i = 0; i < 1000; ++i) grid_indices.insert(grid_indices.end(), {2 * i, 2 * i + 2, 2 * i + 3, 2 * i, 2 * i + 3, 2 * i + 1});
   big.doc["meshes"][0]["primitives"][0] = big.make_primitive(grid, grid_indices);
   big.doc["meshes"][0]["extras"]["epi"]["subdivision"] = {{"level", 8}, {"quads", true}};
-  expect_error(big.write_gltf(dir / "big.gltf"), "would make up to 131072000 triangles (limit 67108864)");
+  expect_error(big.write_gltf(dir / "big.gltf"), "would make up to 131072000 triangles (limit 67108864 for the scene)");
   // Quads whose triangle pairs do not share the (a, c) diagonal.
   GltfBuilder b = with_subdivision({{"quads", true}});
   const uint32_t not_pairs[6] = {0, 1, 2, 2, 3, 0};
