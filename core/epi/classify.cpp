@@ -10,7 +10,8 @@ CellKind classify_pixel(EpiImage& epi, const BoundaryMasks& masks, int x, int y)
   const size_t i = epi.index(x, y);
   uint8_t sides[4];
   masks.pixel_sides(x, y, sides);
-  const geom::CellClass c = geom::classify_cell(sides, 8);
+  const bool no_crossing = (sides[0] | sides[1] | sides[2] | sides[3]) == 0;
+  const geom::CellClass c = no_crossing ? geom::CellClass{CellKind::empty, 0, 0} : geom::classify_cell(sides, 8);
   uint16_t edge = uint16_t(epi.edge[i] & ~(bits::kCodeMask | bits::kUsable));
   int type = kTypeEmpty;
   const bool sample = edge & bits::kHasSample;

@@ -1,5 +1,7 @@
 #include "epi/interpolate.h"
 
+#include <algorithm>
+
 #include "epi/geometry.h"
 #include "epi/reachability.h"
 
@@ -14,31 +16,36 @@ const float kInterpolationWeights[25] = {
 
 namespace {
 
-// Weighted sum over the 5x5: pixels in the image, holding a sample that passes `use`.
-template <typename Use>
-float weighted_sum(const EpiImage& epi, int x, int y, Use use, float rgb[3]) {
+// Kernel-weighted sum over the 5x5, branch-free: pixel k of the window (k = (dy+2)*5 + dx+2)
+// counts when bit k of `take` is set and its edge word has all the bits of `need`.
+float weighted_sum(const EpiImage& epi, int x, int y, uint32_t take, uint16_t need, float rgb[3]) {
+  const auto& lut = srgb8_to_linear();
+  const int dx0 = std::max(-2, -x), dx1 = std::min(2, epi.width - 1 - x);
+  const int dy0 = std::max(-2, -y), dy1 = std::min(2, epi.height - 1 - y);
   float sum[3] = {0, 0, 0}, total = 0;
-  for (int dy = -2; dy <= 2; ++dy)
-    for (int dx = -2; dx <= 2; ++dx) {
-      const int px = x + dx, py = y + dy;
-      if (!epi.inside(px, py)) continue;
-      const size_t i = epi.index(px, py);
-      if (!use(epi.edge[i], dx, dy)) continue;
-      const float w = kInterpolationWeights[(dy + 2) * 5 + dx + 2];
-      float c[3];
-      decode_color(epi.color[i], c);
-      sum[0] += w * c[0], sum[1] += w * c[1], sum[2] += w * c[2];
+  for (int dy = dy0; dy <= dy1; ++dy) {
+    const size_t row = epi.index(x, y + dy);
+    for (int dx = dx0; dx <= dx1; ++dx) {
+      const int k = (dy + 2) * 5 + dx + 2;
+      const uint32_t use = ((take >> k) & 1u) & uint32_t((epi.edge[row + dx] & need) == need);
+      const float w = kInterpolationWeights[k] * float(use);
+      const uint32_t c = epi.color[row + dx];
+      sum[0] += w * lut[c & 255], sum[1] += w * lut[(c >> 8) & 255], sum[2] += w * lut[(c >> 16) & 255];
       total += w;
     }
+  }
   if (total > 0)
     for (int k = 0; k < 3; ++k) rgb[k] = sum[k] / total;
   return total;
 }
 
+// The 24-bit reach mask spread to the 25 window positions, the centre included.
+uint32_t window_mask(uint32_t reach) { return (reach & 0xfffu) | (1u << 12) | ((reach & 0xfff000u) << 1); }
+
 }  // namespace
 
 float simple_estimate(const EpiImage& epi, int x, int y, float rgb[3]) {
-  return weighted_sum(epi, x, y, [](uint16_t e, int, int) { return has_sample(e); }, rgb);
+  return weighted_sum(epi, x, y, 0x1ffffffu, bits::kHasSample, rgb);
 }
 
 int window_average(const EpiImage& epi, int x, int y, int r, float rgb[3]) {
@@ -65,12 +72,7 @@ float interpolate_pixel(const EpiImage& epi, int x, int y, uint32_t reach, float
   if (complex) {
     total = simple_estimate(epi, x, y, rgb);
   } else {
-    total = weighted_sum(
-        epi, x, y,
-        [reach](uint16_t e, int dx, int dy) {
-          return usable_sample(e) && ((dx == 0 && dy == 0) || ((reach >> reach_bit(dx, dy)) & 1));
-        },
-        rgb);
+    total = weighted_sum(epi, x, y, window_mask(reach), bits::kUsable, rgb);
     if (total == 0 && simple_estimate(epi, x, y, rgb) > 0) return kMaxPriority;
   }
   if (total == 0) {

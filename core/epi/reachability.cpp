@@ -50,12 +50,16 @@ template <bool kForwardOnly>
 uint32_t reach(const EpiImage& epi, int x, int y) {
   const EpiTables& t = epi_tables();
   uint8_t types[25];
+  int any = 0;
   for (int dy = -2; dy <= 2; ++dy)
     for (int dx = -2; dx <= 2; ++dx) {
       const int px = x + dx, py = y + dy;
-      types[(dy + 2) * 5 + dx + 2] =
-          uint8_t(epi.inside(px, py) ? pixel_type(epi.cache[epi.index(px, py)]) : kTypeComplex);
+      const int type = epi.inside(px, py) ? pixel_type(epi.cache[epi.index(px, py)]) : kTypeComplex;
+      types[(dy + 2) * 5 + dx + 2] = uint8_t(type);
+      any |= type;
     }
+  // Fast path: a 5x5 of empty pixels reaches everything.
+  if (any == kTypeEmpty) return kForwardOnly ? kForwardBits : 0xffffffu;
   uint8_t masks[25] = {};
   uint32_t result = 0;
   for (const Step& s : steps()) {
