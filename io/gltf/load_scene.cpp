@@ -728,9 +728,8 @@ PunctualLight convert_light(const json& source, size_t light_index, const tinygl
     light.inner_cone_cos = float(std::cos(inner));
     light.outer_cone_cos = float(std::cos(outer));
   }
-  const Frame frame = node_frame(world, "node " + std::to_string(node_index));
-  light.position = frame.position;
-  light.direction = frame.forward;
+  light.position = glm::vec3(world[3]);
+  if (light.type != LightType::point) light.direction = node_frame(world, "node " + std::to_string(node_index)).forward;
   return light;
 }
 

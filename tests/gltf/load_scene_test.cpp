@@ -257,7 +257,9 @@ TEST(LoadScene, PunctualLights) {
       {{"type", "spot"}, {"intensity", 2.0}, {"range", 10.0}, {"spot", {{"innerConeAngle", 0.25}, {"outerConeAngle", 0.5}}}},
       {{"type", "directional"}}};
   const float s = std::sqrt(0.5f);
-  const int point = b.add_node({{"translation", {1, 2, 3}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  // A point light needs no direction: even a zero scale is fine.
+  const int point = b.add_node({{"translation", {1, 2, 3}}, {"scale", {0, 0, 0}},
+                                {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
   // Rotated -90 degrees about X: local -Z points down world -Y.
   const int spot = b.add_node({{"name", "spotnode"}, {"translation", {0, 4, 0}}, {"rotation", {-s, 0, 0, s}},
                                {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
