@@ -118,6 +118,17 @@ struct Point {
   void AddWithWeight(const Point& src, float weight) { p += weight * src.p; }
 };
 
+// Lets OpenSubdiv write limit positions straight into the output array.
+struct PointRef {
+  glm::vec3& p;
+  void Clear(void* = nullptr) { p = glm::vec3(0.0f); }
+  void AddWithWeight(const Point& src, float weight) { p += weight * src.p; }
+};
+struct PositionsAsPoints {
+  glm::vec3* data;
+  PointRef operator[](int i) const { return {data[i]}; }
+};
+
 thread_local std::string osd_error;
 void record_osd_error(Far::ErrorType, const char* message) {
   if (osd_error.empty()) osd_error = message;
@@ -205,36 +216,30 @@ SubdividedMesh subdivide(const ControlMesh& cage, SubdivisionScheme scheme, int 
 
   // Project to the limit surface. OpenSubdiv's limit masks assume quads (Catmull-Clark) or triangles (Loop)
   // around each vertex, which holds after one refinement; a level-0 cage with other faces keeps its points.
-  out.positions.resize(current.size());
-  std::vector<glm::vec3> tangent1(current.size()), tangent2(current.size());
+  const size_t vertex_count = current.size();
+  out.positions.resize(vertex_count);
+  std::vector<Point> du, dv;  // limit tangents
   if (all_quads_or_triangles) {
-    std::vector<Point> limit(current.size()), du(current.size()), dv(current.size());
+    du.resize(vertex_count);
+    dv.resize(vertex_count);
+    PositionsAsPoints limit{out.positions.data()};
     primvars.Limit(current, limit, du, dv);
-    for (size_t v = 0; v < current.size(); ++v) {
-      out.positions[v] = limit[v].p;
-      tangent1[v] = du[v].p;
-      tangent2[v] = dv[v].p;
-    }
   } else {
-    for (size_t v = 0; v < current.size(); ++v) out.positions[v] = current[v].p;
+    for (size_t v = 0; v < vertex_count; ++v) out.positions[v] = current[v].p;
   }
   if (!osd_error.empty()) fail("OpenSubdiv failed: " + osd_error);
+  std::vector<Point>().swap(current);
+  refiner.reset();  // the refined topology is no longer needed
 
-  // Normals from the limit tangents; where they degenerate (sharp corners, level-0 n-gons), from the faces.
-  const std::vector<glm::vec3> fallback = face_weighted_normals(out.positions, out.triangles);
-  out.normals.resize(current.size());
-  for (size_t v = 0; v < current.size(); ++v) {
-    const glm::vec3 t1 = normalized_or_zero(tangent1[v]);
-    const glm::vec3 t2 = normalized_or_zero(tangent2[v]);
-    const glm::vec3 n = glm::cross(t1, t2);
-    const glm::vec3 face_normal = normalized_or_zero(fallback[v]);
-    // A tangent pair at a crease or corner may describe only one side: trust it only when nearly
-    // perpendicular and agreeing with the faces around the vertex.
-    if (glm::length(n) > 1e-3f && glm::dot(n, face_normal) > 0.0f) {
-      out.normals[v] = glm::normalize(n);
-    } else {
-      out.normals[v] = face_normal;
-    }
+  // Normals: the limit normal (cross product of the tangents) where it is well defined and agrees with
+  // the faces around the vertex; else (sharp corners, level-0 n-gons) the area-weighted face normal.
+  out.normals = face_weighted_normals(out.positions, out.triangles);
+  for (size_t v = 0; v < vertex_count; ++v) {
+    const glm::vec3 face_normal = normalized_or_zero(out.normals[v]);
+    out.normals[v] = face_normal;
+    if (du.empty()) continue;
+    const glm::vec3 n = glm::cross(normalized_or_zero(du[v].p), normalized_or_zero(dv[v].p));
+    if (glm::length(n) > 1e-3f && glm::dot(n, face_normal) > 0.0f) out.normals[v] = glm::normalize(n);
   }
   return out;
 }
