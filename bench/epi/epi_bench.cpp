@@ -108,10 +108,10 @@ void run_rows(int threads, int h, Fn fn) {
   });
 }
 
-void report(benchmark::State& state, const Frame& f, int64_t pixels) {
+void report(benchmark::State& state, const Frame& f, int64_t pixels, bool label) {
   state.counters["Mpix/s"] = benchmark::Counter(double(pixels) * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["floor_ms"] = f.floor_seconds * 1e3;
-  state.SetLabel(state.range(2) == 0 ? "oracle" : ("tiled " + std::to_string(state.range(2)) + "T"));
+  if (label) state.SetLabel(state.range(2) == 0 ? "oracle" : ("tiled " + std::to_string(state.range(2)) + "T"));
 }
 
 // The time of one iteration over the floor time, set after the loop.
@@ -120,14 +120,14 @@ void ratio(benchmark::State& state, const Frame& f, double seconds) {
 }
 
 template <typename Body>
-void timed(benchmark::State& state, const Frame& f, Body body) {
+void timed(benchmark::State& state, const Frame& f, Body body, bool label = true) {
   double seconds = 0;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
     body();
     seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
-  report(state, f, int64_t(f.epi.width) * f.epi.height);
+  report(state, f, int64_t(f.epi.width) * f.epi.height, label);
   ratio(state, f, seconds);
 }
 
@@ -239,6 +239,17 @@ void BM_Reconstruct(benchmark::State& state) {
   });
 }
 
+// The band height of the schedule, 1920x1080, 2 threads.
+void BM_ReconstructBandRows(benchmark::State& state) {
+  Frame& f = frame(1920, 1080);
+  EpiImage epi = f.epi;
+  timed(state, f, [&] {
+    const Reconstruction r = reconstruct_tiled(epi, f.masks, {}, {int(state.range(0)), 2});
+    benchmark::DoNotOptimize(r.image.pixels.data());
+  }, false);
+  state.SetLabel("rows_per_band " + std::to_string(state.range(0)));
+}
+
 void BM_StreamingFloor(benchmark::State& state) {
   Frame& f = frame(int(state.range(0)), int(state.range(1)));
   const size_t n = f.epi.edge.size();
@@ -315,6 +326,7 @@ BENCHMARK(BM_AntiAlias)->Apply(Sizes);
 BENCHMARK(BM_Complex)->Apply(Sizes);
 BENCHMARK(BM_RenderCache)->Apply(Sizes);
 BENCHMARK(BM_Reconstruct)->Apply(Sizes);
+BENCHMARK(BM_ReconstructBandRows)->Arg(4)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_LayoutAoS)->Apply(SizesSerial);
 BENCHMARK(BM_LayoutSoA)->Apply(SizesSerial);
 
