@@ -114,7 +114,39 @@ TEST(Quality, NoColourCrossesAClosedEdge) {
           ++checked;
         }
       EXPECT_GT(checked, 1000);
+      // Whatever the fallbacks do, a pixel whose whole 7x7 footprint is free of edges gets its
+      // polygon's colour, or black when no sample lies there.
+      for (int y = 3; y + 3 < p.height; ++y)
+        for (int x = 3; x + 3 < p.width; ++x) {
+          bool clear = true;
+          for (int dy = -3; dy <= 3; ++dy)
+            for (int dx = -3; dx <= 3; ++dx) clear = clear && !edges[size_t((y + dy) * p.width + x + dx)];
+          if (!clear) continue;
+          const float* got = r.image.at(x, y);
+          const bool black = got[0] == 0 && got[1] == 0 && got[2] == 0;
+          for (int c = 0; c < 3 && !black; ++c) ASSERT_NEAR(got[c], exact.at(x, y)[c], 1e-5) << x << "," << y;
+        }
     }
+}
+
+// Polygons on grid lines and through pixel corners: with every pixel sampled the result is
+// close to exact, with the error bounded by the 1/8-pixel edge resolution.
+TEST(Quality, GridAlignedAndCornerPolygons) {
+  const Pattern p = parse_pattern(R"({"width":40,"height":40,"background":[0,0,0],"polygons":[
+      {"color":[1,1,1],"points":[[5,5],[17,5],[17,17],[5,17]]},
+      {"color":[1,0.5,0],"points":[[30,21],[38,29],[30,37],[22,29]]},
+      {"color":[0,0.5,1],"points":[[3,22.5],[14,22.5],[14,33.5],[3,33.5]]}]})", "grid.json");
+  test::Built b = test::build(p, 1.0, 1);
+  const RgbImage exact = exact_image(p);
+  const std::vector<uint8_t> edges = edge_pixels(p);
+  const Reconstruction r = reconstruct_tiled(b.epi, b.masks, {});
+  const double error = test::mean_error(r.image, exact, edges);
+  const double point = test::mean_error(point_sampled(b.epi), exact, edges);
+  std::printf("grid/corners  edge pixels: point sampling %.4f, EPI %.4f\n", point, error);
+  EXPECT_LT(error, 0.06);
+  EXPECT_LT(error, 0.5 * point);
+  // The axis-aligned square's edges are on grid lines: no complex pixel except near corners.
+  EXPECT_LE(r.counts.complex, 12);
 }
 
 }  // namespace
