@@ -232,11 +232,12 @@ SubdividedMesh subdivide(const ControlMesh& cage, SubdivisionScheme scheme, int 
   refiner.reset();  // the refined topology is no longer needed
 
   // Normals: the limit normal (cross product of the tangents) where it is well defined and agrees with
-  // the faces around the vertex; else (sharp corners, level-0 n-gons) the area-weighted face normal.
+  // the faces around the vertex; else (sharp corners, level-0 n-gons) the area-weighted face normal;
+  // +z where even that vanishes (a vertex whose faces all have zero area).
   out.normals = face_weighted_normals(out.positions, out.triangles);
   for (size_t v = 0; v < vertex_count; ++v) {
     const glm::vec3 face_normal = normalized_or_zero(out.normals[v]);
-    out.normals[v] = face_normal;
+    out.normals[v] = face_normal == glm::vec3(0.0f) ? glm::vec3(0.0f, 0.0f, 1.0f) : face_normal;  // always unit
     if (du.empty()) continue;
     const glm::vec3 n = glm::cross(normalized_or_zero(du[v].p), normalized_or_zero(dv[v].p));
     if (glm::length(n) > 1e-3f && glm::dot(n, face_normal) > 0.0f) out.normals[v] = glm::normalize(n);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <random>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -292,6 +293,68 @@ TEST(Subdivide, LevelZeroPolygonsAreFanTriangulated) {
   EXPECT_GT(volume, 0.0);
   EXPECT_GT(signed_volume(smooth.positions, smooth.triangles), 0.0);
   EXPECT_EQ(euler_characteristic(smooth), 2);
+}
+
+TEST(Subdivide, LoopWithSharpEdgesKeepsTheTetrahedron) {
+  ControlMesh cage = tetrahedron_cage();
+  for (uint32_t a = 0; a < 4; ++a)
+    for (uint32_t b = a + 1; b < 4; ++b) cage.creases.push_back({a, b, 10.0f});
+  const SubdividedMesh m = subdivide(cage, SubdivisionScheme::loop, 3);
+  for (uint32_t corner = 0; corner < 4; ++corner)
+    EXPECT_LT(glm::length(m.positions[corner] - cage.positions[corner]), 1e-6f);
+  EXPECT_NEAR(signed_volume(m.positions, m.triangles), 8.0 / 3.0, 1e-4);
+}
+
+TEST(Subdivide, AcceptsManifoldOddities) {
+  // Two quads sharing only a vertex (a non-manifold vertex), and two triangles whose windings
+  // disagree across their shared edge: OpenSubdiv handles both; the output stays well formed.
+  ControlMesh bowtie;
+  bowtie.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {-1, 0, 0}, {-1, -1, 0}, {0, -1, 0}};
+  bowtie.face_sizes = {4, 4};
+  bowtie.face_indices = {0, 1, 2, 3, 0, 4, 5, 6};
+  const SubdividedMesh a = subdivide(bowtie, SubdivisionScheme::catmull_clark, 2);
+  EXPECT_EQ(a.triangles.size(), 2u * 2u * 16u);
+  expect_valid_indices(a);
+  ControlMesh flipped;
+  flipped.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
+  flipped.face_sizes = {3, 3};
+  flipped.face_indices = {0, 1, 2, 1, 2, 3};  // edge (1,2) traversed the same way twice
+  const SubdividedMesh b = subdivide(flipped, SubdivisionScheme::loop, 2);
+  EXPECT_EQ(b.triangles.size(), 2u * 16u);
+  expect_valid_indices(b);
+  for (const glm::vec3& p : b.positions) EXPECT_TRUE(std::isfinite(p.x + p.y + p.z));
+}
+
+TEST(Subdivide, RandomCagesFailCleanlyOrGiveValidMeshes) {
+  // Random polygon soups over few vertices (repeated edges, fans, bowties, bad indices): each one
+  // either throws SubdivisionError or yields in-range indices and finite points, never crashes.
+  std::mt19937 rng(5);
+  int accepted = 0, rejected = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    ControlMesh cage;
+    const uint32_t vertex_count = 3 + rng() % 8;
+    for (uint32_t v = 0; v < vertex_count; ++v)
+      cage.positions.emplace_back(float(rng() % 5), float(rng() % 5), float(rng() % 5));
+    const SubdivisionScheme scheme = rng() % 2 ? SubdivisionScheme::loop : SubdivisionScheme::catmull_clark;
+    const uint32_t faces = 1 + rng() % 6;
+    for (uint32_t f = 0; f < faces; ++f) {
+      const uint32_t size = scheme == SubdivisionScheme::loop ? 3 : 3 + rng() % 3;
+      cage.face_sizes.push_back(size);
+      for (uint32_t i = 0; i < size; ++i) cage.face_indices.push_back(rng() % (vertex_count + (trial % 10 == 0)));
+    }
+    if (rng() % 3 == 0) cage.creases.push_back({cage.face_indices[0], cage.face_indices[1], float(rng() % 11)});
+    try {
+      const SubdividedMesh m = subdivide(cage, scheme, 1 + trial % 3);
+      ++accepted;
+      expect_valid_indices(m);
+      for (const glm::vec3& p : m.positions) ASSERT_TRUE(std::isfinite(p.x + p.y + p.z)) << "trial " << trial;
+      for (const glm::vec3& n : m.normals) ASSERT_NEAR(glm::length(n), 1.0f, 1e-4f) << "trial " << trial;
+    } catch (const SubdivisionError&) {
+      ++rejected;
+    }
+  }
+  EXPECT_GT(accepted, 50);
+  EXPECT_GT(rejected, 50);
 }
 
 void expect_error(const ControlMesh& cage, SubdivisionScheme scheme, int level, const std::string& words) {
