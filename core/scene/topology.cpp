@@ -128,23 +128,25 @@ uint32_t drop_degenerate_triangles(Mesh& mesh) {
     return n.x == 0.0 && n.y == 0.0 && n.z == 0.0;
   };
 
-  // Compact triangles in place and rebuild the material ranges over the survivors.
+  // Compact the triangles in place, counting survivors as we go: kept_before[t] is the new index
+  // of old triangle t, so each material range maps to [kept_before[first], kept_before[end]).
+  std::vector<uint32_t> kept_before(mesh.triangles.size() + 1);
+  uint32_t kept = 0;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    kept_before[t] = kept;
+    if (!degenerate(mesh.triangles[t])) mesh.triangles[kept++] = mesh.triangles[t];
+  }
+  kept_before[mesh.triangles.size()] = kept;
   std::vector<MaterialRange> ranges;
-  size_t kept = 0;
-  const size_t range_count = mesh.materials.size();
-  for (size_t r = 0; r < std::max<size_t>(range_count, 1); ++r) {
-    const size_t first = range_count ? mesh.materials[r].first_triangle : 0;
-    const size_t end = range_count ? first + mesh.materials[r].triangle_count : mesh.triangles.size();
-    const size_t range_begin = kept;
-    for (size_t t = first; t < end && t < mesh.triangles.size(); ++t)
-      if (!degenerate(mesh.triangles[t])) mesh.triangles[kept++] = mesh.triangles[t];
-    if (range_count && kept > range_begin)
-      ranges.push_back({static_cast<uint32_t>(range_begin), static_cast<uint32_t>(kept - range_begin),
-                        mesh.materials[r].material});
+  for (const MaterialRange& r : mesh.materials) {
+    const size_t first = std::min<size_t>(r.first_triangle, mesh.triangles.size());
+    const size_t end = std::min<size_t>(size_t(r.first_triangle) + r.triangle_count, mesh.triangles.size());
+    const uint32_t count = kept_before[end] - kept_before[first];
+    if (count > 0) ranges.push_back({kept_before[first], count, r.material});  // ranges left empty go
   }
   const uint32_t dropped = static_cast<uint32_t>(mesh.triangles.size() - kept);
   mesh.triangles.resize(kept);
-  if (range_count) mesh.materials = std::move(ranges);
+  mesh.materials = std::move(ranges);
   return dropped;
 }
 

@@ -261,6 +261,19 @@ TEST(DropDegenerate, MatchesAFilterOnRandomMeshes) {
   }
 }
 
+TEST(DropDegenerate, TrianglesOutsideRangesAreKept) {
+  // Ranges should cover every triangle; if they do not, no good triangle may be lost anyway.
+  Mesh mesh;
+  mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  mesh.triangles = {{0, 1, 2}, {0, 0, 1}, {0, 1, 2}, {1, 2, 0}};
+  mesh.materials = {{0, 2, 4}};  // the last two triangles are in no range
+  EXPECT_EQ(drop_degenerate_triangles(mesh), 1u);
+  EXPECT_EQ(mesh.triangles.size(), 3u);
+  ASSERT_EQ(mesh.materials.size(), 1u);
+  EXPECT_EQ(mesh.materials[0].first_triangle, 0u);
+  EXPECT_EQ(mesh.materials[0].triangle_count, 1u);
+}
+
 TEST(DropDegenerate, MeshWithoutMaterials) {
   Mesh mesh;
   mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
