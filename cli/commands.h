@@ -34,9 +34,9 @@ int run_info(const InfoOptions& options);
 
 struct RenderOptions {
   std::string scene;
-  std::string mode = "reference";  // reference | raytrace (epi | rendercache come with the frame loop)
+  std::string mode = "reference";  // reference | raytrace | epi | rendercache (the last two: the frame loop)
   int width = 512, height = 512;
-  int spp = 64;
+  int spp = 16;
   std::string shader = "direct";  // direct | glossy | gi
   uint64_t seed = 1;
   int threads = 0;  // 0: all cores
@@ -45,8 +45,16 @@ struct RenderOptions {
   bool quiet = false;
   int subdiv_level = -1;
   CameraOverride camera;
+  // The frame loop (modes epi and rendercache):
+  int frames = 60;
+  bool sync = false;           // shade exactly the budget each frame (deterministic)
+  double sample_budget = 0.02; // fraction of the pixels requested per frame
+  std::string camera_path;     // file of camera keys per frame; empty: the scene's path, else still
+  std::string frames_out;      // printf-style pattern for every frame's image, e.g. out/f%04d.png
 };
 int run_render(const RenderOptions& options);
+// The frame loop behind `render --mode epi|rendercache` (cli/frames.cpp).
+int run_render_frames(const RenderOptions& options);
 
 // The 2D harness of core/epi (issue 3).
 struct ReconstructOptions {

@@ -86,9 +86,25 @@ int main(int argc, char** argv) {
   RenderOptions render;
   CLI::App* render_cmd = app.add_subcommand("render", "Render a scene to an image file");
   render_cmd->add_option("scene", render.scene, "glTF 2.0 scene (.gltf or .glb)")->required();
+#ifdef EPI_WITH_FRAMES
+  render_cmd
+      ->add_option("--mode", render.mode,
+                   "epi: the edge-and-point renderer; rendercache: the same without edges; raytrace: 1 sample per pixel; "
+                   "reference: converged, --spp samples per pixel")
+      ->check(CLI::IsMember({"epi", "rendercache", "raytrace", "reference"}))
+      ->capture_default_str();
+  render_cmd->add_option("--frames", render.frames, "Frames to run (epi, rendercache)")->check(CLI::Range(1, 1000000))->capture_default_str();
+  render_cmd->add_flag("--sync", render.sync, "Shade exactly the sample budget every frame (deterministic; for tests)");
+  render_cmd->add_option("--sample-budget", render.sample_budget, "Fraction of the pixels shaded per frame")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  render_cmd->add_option("--camera-path", render.camera_path, "Camera keys per frame (docs/camera-path.md)");
+  render_cmd->add_option("--frames-out", render.frames_out, "Write every frame, e.g. frames/f%04d.png");
+#else
   render_cmd->add_option("--mode", render.mode, "reference: converged, --spp samples per pixel; raytrace: 1 sample per pixel")
       ->check(CLI::IsMember({"reference", "raytrace"}))
       ->capture_default_str();
+#endif
   add_size_option(*render_cmd, render.width, render.height);
   render_cmd->add_option("--spp", render.spp, "Samples per pixel (reference mode)")
       ->check(CLI::Range(1, 1 << 20))

@@ -43,6 +43,9 @@ Camera apply_camera_override(const Scene& scene, const CameraOverride& override_
 }
 
 int run_render(const RenderOptions& options) {
+#ifdef EPI_WITH_FRAMES
+  if (options.mode == "epi" || options.mode == "rendercache") return run_render_frames(options);
+#endif
   const auto start = Clock::now();
   // Fail on a bad output path before any long work.
   check_output_path(options.output);
