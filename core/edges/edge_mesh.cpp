@@ -11,7 +11,7 @@ size_t EdgeMesh::memory_bytes() const {
          faces.capacity() * sizeof(glm::uvec3) + positions.capacity() * sizeof(glm::vec3) +
          (v0.capacity() + v1.capacity() + face0.capacity() + face1.capacity() + feature_edges.capacity()) *
              sizeof(uint32_t) +
-         flags.capacity();
+         flags.capacity() + (ring_start.capacity() + ring_faces.capacity()) * sizeof(uint32_t);
 }
 
 Viewpoint EdgeMesh::local_point(const glm::dvec3& p) const {
@@ -70,6 +70,16 @@ EdgeMesh build_edge_mesh(const Mesh& mesh) {
     m.flags[e] = flags;
     if (flags) m.feature_edges.push_back(uint32_t(e));
   }
+
+  // Faces around each vertex, by counting sort.
+  m.ring_start.assign(m.positions.size() + 1, 0);
+  for (const glm::uvec3& f : m.faces)
+    for (int k = 0; k < 3; ++k) ++m.ring_start[f[k] + 1];
+  for (size_t v = 0; v < m.positions.size(); ++v) m.ring_start[v + 1] += m.ring_start[v];
+  m.ring_faces.resize(m.ring_start.back());
+  std::vector<uint32_t> fill(m.ring_start.begin(), m.ring_start.end() - 1);
+  for (uint32_t f = 0; f < m.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) m.ring_faces[fill[m.faces[f][k]]++] = f;
   return m;
 }
 

@@ -34,6 +34,8 @@ struct EdgeMesh {
   std::vector<uint32_t> v0, v1, face0, face1;
   std::vector<uint8_t> flags;
   std::vector<uint32_t> feature_edges;  // edges with any flag set
+  // Faces around each welded vertex (CSR): ring_faces[ring_start[v], ring_start[v + 1]).
+  std::vector<uint32_t> ring_start, ring_faces;
   float max_abs_d = 0.0f;
 
   size_t face_count() const { return d.size(); }
