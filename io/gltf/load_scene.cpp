@@ -57,7 +57,9 @@ std::string one_line(const std::string& text) {
   return out;
 }
 
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+// Finite once stored as float (the scene model's type); false for NaN and infinities.
+bool fits_float(double v) { return std::abs(v) <= double(FLT_MAX); }
+bool finite(const glm::dvec3& v) { return fits_float(v.x) && fits_float(v.y) && fits_float(v.z); }
 
 // ---------------------------------------------------------------------------------------------
 // The file: a GLB container or JSON text.
@@ -359,8 +361,8 @@ Material convert_material(const tinygltf::Material& source, const json& source_j
     if (!std::isfinite(strength) || strength < 0.0)
       fail(where + ": emissiveStrength " + std::to_string(strength) + " must be finite and >= 0");
   }
+  if (!finite(emission * strength)) fail(where + ": emission is not finite");
   material.emission = glm::vec3(emission * strength);
-  if (!finite(glm::dvec3(material.emission))) fail(where + ": emission is not finite");
   return material;
 }
 
@@ -683,7 +685,7 @@ Camera convert_camera(const tinygltf::Camera& source, size_t camera_index, const
   if (source.type != "perspective") fail(where + ": unknown camera type '" + source.type + "'");
   const tinygltf::PerspectiveCamera& p = source.perspective;
   if (!(p.yfov > 0.0 && p.yfov < kPi)) fail(where + ": yfov " + std::to_string(p.yfov) + " must be in (0, pi)");
-  if (!(p.znear > 0.0 && std::isfinite(p.znear))) fail(where + ": znear must be > 0");
+  if (!(p.znear > 0.0 && fits_float(p.znear))) fail(where + ": znear must be finite and > 0");
   if (p.zfar != 0.0 && !(p.zfar > p.znear && std::isfinite(p.zfar))) fail(where + ": zfar must be > znear");
   if (!(p.aspectRatio >= 0.0 && std::isfinite(p.aspectRatio))) fail(where + ": aspectRatio must be > 0");
   const Frame frame = node_frame(world, "node " + std::to_string(node_index));
@@ -715,10 +717,10 @@ PunctualLight convert_light(const json& source, size_t light_index, const tinygl
   if (!finite(color) || color.x < 0.0 || color.y < 0.0 || color.z < 0.0) fail(where + ": color must be finite and >= 0");
   const double intensity = source.value("intensity", 1.0);
   if (!(intensity >= 0.0) || !std::isfinite(intensity)) fail(where + ": intensity must be finite and >= 0");
+  if (!finite(color * intensity)) fail(where + ": color * intensity is not finite");
   light.intensity = glm::vec3(color * intensity);
-  if (!finite(glm::dvec3(light.intensity))) fail(where + ": color * intensity is not finite");
   const double range = source.value("range", 0.0);
-  if (source.contains("range") && !(range > 0.0 && std::isfinite(range))) fail(where + ": range must be > 0");
+  if (source.contains("range") && !(range > 0.0 && fits_float(range))) fail(where + ": range must be finite and > 0");
   light.range = float(range);
   if (light.type == LightType::spot) {
     const json spot = source.value("spot", json::object());

@@ -1,8 +1,10 @@
 // Valid scenes: hierarchy, instancing, names, buffers in all three containers, index types,
 // materials, cameras, lights, camera paths, strips and fans, repairs.
 #include <cmath>
+#include <random>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
 #include "gltf_builder.h"
@@ -402,6 +404,71 @@ TEST(LoadScene, SceneIndexPicksTheScene) {
   scene = load_scene(b.write_gltf(dir / "s0.gltf"));
   EXPECT_EQ(scene.triangle_count(), 1u);
   EXPECT_EQ(scene.meshes.size(), 1u);  // meshes of other scenes are not built
+}
+
+// Property test: random forests of nodes with random matrix or TRS transforms. World transforms
+// must equal the product along the parent chain (computed here by walking up), and objects come
+// in preorder.
+TEST(LoadScene, RandomHierarchiesMatchParentChainProducts) {
+  TempDir dir;
+  std::mt19937 rng(2024);
+  std::uniform_real_distribution<float> uniform(-2.0f, 2.0f);
+  for (int trial = 0; trial < 30; ++trial) {
+    GltfBuilder b;
+    b.add_mesh("tri", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2});
+    const int count = 1 + int(rng() % 40);
+    std::vector<int> parent(static_cast<size_t>(count), -1);
+    std::vector<glm::mat4> local(static_cast<size_t>(count));
+    b.doc["nodes"] = json::array();
+    for (int i = 0; i < count; ++i) {
+      json node = {{"name", "random_node" + std::to_string(i)}, {"mesh", 0}};
+      const glm::vec3 t(uniform(rng), uniform(rng), uniform(rng));
+      const glm::vec3 scale(0.5f + 0.25f * (uniform(rng) + 2.0f), 0.5f + 0.25f * (uniform(rng) + 2.0f), -1.0f);
+      const glm::quat q = glm::normalize(glm::quat(uniform(rng), uniform(rng), uniform(rng), uniform(rng)));
+      local[size_t(i)] = glm::translate(glm::mat4(1.0f), t) * glm::mat4_cast(q) * glm::scale(glm::mat4(1.0f), scale);
+      if (rng() % 2) {
+        node["translation"] = {t.x, t.y, t.z};
+        node["rotation"] = {q.x, q.y, q.z, q.w};
+        node["scale"] = {scale.x, scale.y, scale.z};
+      } else {
+        const float* m = &local[size_t(i)][0][0];
+        node["matrix"] = std::vector<float>(m, m + 16);
+      }
+      b.doc["nodes"].push_back(node);
+    }
+    std::vector<int> roots;
+    for (int i = 0; i < count; ++i) {
+      if (i > 0 && rng() % 4 != 0) {
+        parent[size_t(i)] = int(rng() % unsigned(i));  // parents come first: no cycles
+        b.doc["nodes"][parent[size_t(i)]]["children"].push_back(i);
+      } else {
+        roots.push_back(i);
+      }
+    }
+    b.set_scene(roots);
+    const Scene scene = load_scene(b.write_glb(dir / "r.glb"));
+    ASSERT_EQ(scene.objects.size(), size_t(count));
+
+    // Reference: preorder over the forest with the product along each parent chain.
+    std::vector<int> order;
+    std::vector<int> stack(roots.rbegin(), roots.rend());
+    while (!stack.empty()) {
+      const int n = stack.back();
+      stack.pop_back();
+      order.push_back(n);
+      const json& children = b.doc["nodes"][n].value("children", json::array());
+      for (auto c = children.rbegin(); c != children.rend(); ++c) stack.push_back(c->get<int>());
+    }
+    for (size_t k = 0; k < order.size(); ++k) {
+      glm::mat4 world(1.0f);
+      for (int n = order[k]; n >= 0; n = parent[size_t(n)]) world = local[size_t(n)] * world;
+      ASSERT_EQ(scene.objects[k].name, "random_node" + std::to_string(order[k]));
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+          ASSERT_NEAR(scene.objects[k].object_to_world[c][r], world[c][r], 2e-4f * (1.0f + std::abs(world[c][r])))
+              << "trial " << trial << " node " << order[k];
+    }
+  }
 }
 
 }  // namespace

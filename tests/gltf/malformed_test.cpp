@@ -279,6 +279,48 @@ TEST(Malformed, NonFiniteVertexData) {
   }
 }
 
+// Numbers too large for the float scene model (1e300), and numbers too large for JSON (1e400).
+TEST(Malformed, HugeNumbers) {
+  TempDir dir;
+  const std::vector<std::pair<std::function<void(GltfBuilder&)>, std::string>> cases = {
+      {[](GltfBuilder& b) { b.doc["materials"][0]["pbrMetallicRoughness"]["metallicFactor"] = 0.123456; }, "metallicFactor"},
+      {[](GltfBuilder& b) {
+         b.doc["materials"][0]["emissiveFactor"] = {1, 0, 0};
+         b.doc["materials"][0]["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] = 0.123456;
+       }, "emission is not finite"},
+      {[](GltfBuilder& b) { b.doc["nodes"][0]["translation"] = {0.123456, 0, 0}; }, "world transform is not finite"},
+      {[](GltfBuilder& b) {
+         b.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.123456}}}}};
+         b.doc["nodes"][0]["camera"] = 0;
+       }, "znear must be finite"},
+      {[](GltfBuilder& b) {
+         b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 0.123456}}};
+         b.doc["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 0;
+       }, "color * intensity is not finite"},
+      {[](GltfBuilder& b) {
+         b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"range", 0.123456}}};
+         b.doc["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 0;
+       }, "range must be finite"},
+      {[](GltfBuilder& b) { b.doc["meshes"][0]["extras"]["epi"]["sharp_angle"] = 0.123456; }, "sharp_angle"},
+      {[](GltfBuilder& b) { b.doc["extras"]["epi"]["camera_path"] = {{{"eye", {0.123456, 0, 1}}, {"target", {0, 0, 0}}}}; },
+       "camera_path[0].eye: not finite"},
+  };
+  for (const char* huge : {"1e300", "1e400"}) {
+    for (const auto& [mutate, problem] : cases) {
+      GltfBuilder b = valid_scene();
+      mutate(b);
+      b.write_gltf(dir / "o.gltf");
+      std::ifstream in(dir / "o.gltf");
+      std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      const size_t at = text.find("0.123456");
+      ASSERT_NE(at, std::string::npos);
+      text.replace(at, 8, huge);
+      GltfBuilder::write_text(dir / "o.gltf", text);
+      expect_error(dir / "o.gltf", std::string(huge) == "1e400" ? "number overflow" : problem);
+    }
+  }
+}
+
 TEST(Malformed, GlbContainerProblems) {
   TempDir dir;
   GltfBuilder b = valid_scene();
