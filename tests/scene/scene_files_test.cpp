@@ -387,6 +387,12 @@ TEST(SceneGeometry, CornellBox) {
       EXPECT_GT(glm::dot(glm::cross(p[t.y] - p[t.x], p[t.z] - p[t.x]), inside - p[t.x]), 0.0f) << wall;
   }
   for (const char* block : {"short_block", "tall_block"}) EXPECT_EQ(min_y(file.world_positions(file.instance(block))), 0.0f);
+  // The path looks in through the open front, never from beside or behind the walls.
+  for (const json& key : file.doc["scenes"][0]["extras"]["epi"]["camera_path"]) {
+    EXPECT_LT(key["eye"][2].get<float>(), -0.5f);
+    EXPECT_GT(key["eye"][0].get<float>(), 0.0f);
+    EXPECT_LT(key["eye"][0].get<float>(), 0.556f);
+  }
 }
 
 TEST(SceneGeometry, ChainLinksDoNotTouch) {
@@ -474,6 +480,19 @@ TEST(SceneGeometry, RoomsFurnitureStandsInside) {
   for (const char* resting : {"pouf", "ball", "bed", "table_a"})
     EXPECT_NEAR(min_y(file.world_positions(file.instance(resting))), 0.0f, 1e-6f) << resting;
   EXPECT_NEAR(min_y(file.world_positions(file.instance("vase"))), 0.76f, 1e-6f);
+
+  // The walk stays in the rooms, crosses the interior walls only through doorways (1 m wide,
+  // centred at 2 and 6 m), and keeps clear of the outer walls and the shelf.
+  const json& path = file.doc["scenes"][0]["extras"]["epi"]["camera_path"];
+  auto in_doorway = [](float along) { return std::abs(along - 2.0f) < 0.35f || std::abs(along - 6.0f) < 0.35f; };
+  for (size_t k = 0; k < path.size(); ++k) {
+    const glm::vec3 eye(path[k]["eye"][0].get<float>(), path[k]["eye"][1].get<float>(), path[k]["eye"][2].get<float>());
+    EXPECT_GT(std::min(eye.x, eye.z), 0.5f) << "key " << k;
+    EXPECT_LT(std::max(eye.x, eye.z), 7.0f) << "key " << k;
+    if (std::abs(eye.x - 4.0f) < 0.25f) EXPECT_TRUE(in_doorway(eye.z)) << "key " << k << " in the wall x = 4";
+    if (std::abs(eye.z - 4.0f) < 0.25f) EXPECT_TRUE(in_doorway(eye.x)) << "key " << k << " in the wall z = 4";
+    EXPECT_LT(eye.y, 2.1f);  // below the door lintels
+  }
 }
 
 }  // namespace
