@@ -21,8 +21,7 @@ AreaLight build_area_light(const Scene& scene, uint32_t object, const glm::mat4&
     if (mirrored) std::swap(tri.y, tri.z);
     glm::vec3 v[3];
     for (int k = 0; k < 3; ++k) v[k] = glm::vec3(object_to_world * glm::vec4(mesh.positions[tri[k]], 1.0f));
-    float area = 0.5f * glm::length(glm::cross(v[1] - v[0], v[2] - v[0]));
-    if (!(area > 0.0f)) continue;
+    float area = 0.5f * glm::length(glm::cross(v[1] - v[0], v[2] - v[0]));  // 0 for a degenerate one: never sampled
     light.triangle_vertices.insert(light.triangle_vertices.end(), v, v + 3);
     light.triangle_materials.push_back(material);
     float power = rgb_luminance(scene.materials[material].emission) * area;

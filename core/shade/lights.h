@@ -10,8 +10,9 @@ inline uint32_t area_light_number(const Scene& scene, size_t area_index) {
   return uint32_t(scene.punctual_lights.size() + area_index);
 }
 
-// The area light of an object placed by object_to_world: its emissive triangles in world space,
-// per-triangle material, power CDF, area and power. Outlines are left empty (the loader finds them).
+// The area light of an object placed by object_to_world: its emissive triangles in world space
+// (in mesh order, as io/gltf builds them), per-triangle material, power CDF, area and power.
+// Outlines are left empty (the loader finds them).
 AreaLight build_area_light(const Scene& scene, uint32_t object, const glm::mat4& object_to_world);
 
 }  // namespace epi

@@ -131,6 +131,25 @@ void RayScene::build() {
   area_lights_ = scene.area_lights;
   area_light_of_object_.assign(scene.objects.size(), kNone);
   for (uint32_t i = 0; i < area_lights_.size(); ++i) area_light_of_object_[area_lights_[i].object] = i;
+  light_triangle_maps_.resize(area_lights_.size());
+  for (size_t i = 0; i < area_lights_.size(); ++i) {
+    // Mesh triangle -> light triangle (the light lists the emissive triangles in mesh order).
+    const AreaLight& light = area_lights_[i];
+    const Mesh& mesh = scene.meshes[scene.objects[light.object].mesh];
+    std::vector<uint32_t> map(mesh.triangles.size(), kNone);
+    uint32_t next = 0;
+    bool consistent = true;
+    for (uint32_t t = 0; t < mesh.triangles.size() && consistent; ++t) {
+      uint32_t material = mesh.material_of(t);
+      if (!scene.materials[material].emissive()) continue;
+      consistent = next < light.triangle_materials.size() && light.triangle_materials[next] == material;
+      map[t] = next++;
+    }
+    if (!consistent || next != light.triangle_materials.size())
+      throw std::runtime_error(scene_label(scene) + ": area light of object '" + scene.objects[light.object].name +
+                               "' does not list the emissive triangles of its mesh in order");
+    light_triangle_maps_[i] = std::move(map);
+  }
   update_area_light_cdf();
 }
 

@@ -41,6 +41,10 @@ class RayScene {
   // over them by power.
   const std::vector<AreaLight>& area_lights() const { return area_lights_; }
   const std::vector<float>& area_light_cdf() const { return area_light_cdf_; }
+  // The area light made from an object, or kNone; and which of its triangles a mesh triangle is
+  // (kNone if not emissive). Area lights list their mesh's emissive triangles in mesh order.
+  uint32_t area_light_of_object(uint32_t object) const { return area_light_of_object_[object]; }
+  uint32_t light_triangle(size_t light, uint32_t mesh_triangle) const { return light_triangle_maps_[light][mesh_triangle]; }
 
   // Nearest hit in (tnear, tfar), and whether anything lies there. Thread-safe.
   RayHit intersect(const Ray& ray) const;
@@ -66,6 +70,7 @@ class RayScene {
   std::vector<glm::mat3> normal_matrices_;
   std::vector<AreaLight> area_lights_;
   std::vector<uint32_t> area_light_of_object_;  // index into area_lights_, or kNone
+  std::vector<std::vector<uint32_t>> light_triangle_maps_;  // per area light: mesh triangle -> light triangle
   std::vector<float> area_light_cdf_;
   std::atomic<int64_t> embree_bytes_{0};
 };

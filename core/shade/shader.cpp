@@ -33,6 +33,18 @@ size_t pick(const std::vector<float>& cdf, float& u) {
 }
 float probability(const std::vector<float>& cdf, size_t i) { return cdf[i] - (i == 0 ? 0.0f : cdf[i - 1]); }
 
+// How many light and BRDF samples look for the same light (multiple importance sampling).
+struct MisCounts {
+  int light = 0, brdf = 0;
+};
+// The power heuristic (Veach): weight of a sample whose strategy has density a, against b.
+float power_heuristic(float a, float b) {
+  if (!(b > 0.0f)) return 1.0f;  // the other strategy cannot produce this sample
+  if (!(a > 0.0f)) return 0.0f;
+  float r = b / a;
+  return 1.0f / (1.0f + r * r);  // = a^2 / (a^2 + b^2), without overflow
+}
+
 // Stratum j of n on a sqrt(n) x sqrt(n) grid (random beyond the grid).
 glm::vec2 stratified(int j, int n, Rng& rng) {
   int m = int(std::sqrt(double(n)));
@@ -170,8 +182,9 @@ struct Shader::Tracer {
   }
 
   // One area-light sample: light by power, triangle by power, point uniformly; u picks the
-  // triangle and the point, u0 the light. Returns reflected radiance / pdf.
-  glm::vec3 area_sample(const Surface& s, const BrdfParams& brdf, float u0, glm::vec2 u) {
+  // triangle and the point, u0 the light. Returns reflected radiance / pdf, MIS-weighted
+  // against mis.brdf BRDF samples when the path tracer also reaches lights by BRDF sampling.
+  glm::vec3 area_sample(const Surface& s, const BrdfParams& brdf, float u0, glm::vec2 u, MisCounts mis) {
     const std::vector<AreaLight>& lights = scene.area_lights();
     size_t l = pick(scene.area_light_cdf(), u0);
     const AreaLight& light = lights[l];
@@ -198,14 +211,37 @@ struct Shader::Tracer {
     Ray shadow = spawn_to(s, point, wi, light_offset);
     uint32_t number = uint32_t(scene.scene().punctual_lights.size() + l);
     if (!visible(s, shadow, number, light.object)) return glm::vec3(0.0f);
-    return f * emission * (cos_s * cos_light / (d2 * pdf_area));
+    float weight = 1.0f;
+    if (mis.brdf > 0) {
+      float pdf_light = pdf_area * d2 / cos_light;  // solid angle
+      weight = power_heuristic(float(mis.light) * pdf_light, float(mis.brdf) * brdf_pdf(s, brdf, wi));
+    }
+    return f * emission * (weight * cos_s * cos_light / (d2 * pdf_area));
+  }
+
+  // Solid-angle density with which one area-light sample from s picks the point hit on an
+  // emitter (0 when no area light covers it).
+  float light_pdf(const Surface& s, const Surface& emitter) const {
+    uint32_t l = scene.area_light_of_object(emitter.object);
+    if (l == kNone) return 0.0f;
+    uint32_t k = scene.light_triangle(l, emitter.triangle);
+    if (k == kNone) return 0.0f;
+    const AreaLight& light = scene.area_lights()[l];
+    const glm::vec3* v = &light.triangle_vertices[3 * k];
+    float area = 0.5f * glm::length(glm::cross(v[1] - v[0], v[2] - v[0]));
+    glm::vec3 to_light = emitter.position - s.position;
+    float d2 = glm::dot(to_light, to_light);
+    float cos_light = glm::dot(emitter.geometric_normal, emitter.wo);
+    if (!(area > 0.0f) || !(cos_light > 0.0f)) return 0.0f;
+    return probability(scene.area_light_cdf(), l) * probability(light.triangle_cdf, k) / area * d2 / cos_light;
   }
 
   bool has_area_lights() const { return !scene.area_light_cdf().empty() && scene.area_light_cdf().back() > 0.0f; }
 
   // Direct lighting: every punctual light once, area lights with n stratified samples from
-  // one stream each (primary hits), or from the given stream (deeper hits).
-  glm::vec3 direct(const Surface& s, int n, uint64_t key, Rng* stream) {
+  // one stream each (primary hits), or from the given stream (deeper hits). brdf_samples > 0:
+  // that many BRDF samples will also look for the lights from s (multiple importance sampling).
+  glm::vec3 direct(const Surface& s, int n, uint64_t key, Rng* stream, int brdf_samples = 0) {
     BrdfParams brdf = BrdfParams::from(*s.material, settings.specular);
     glm::vec3 sum(0.0f);
     for (uint32_t i = 0; i < scene.scene().punctual_lights.size(); ++i) sum += punctual(s, brdf, i);
@@ -215,7 +251,7 @@ struct Shader::Tracer {
         Rng own = stream ? Rng(0) : Rng(key, kStreamArea, uint64_t(j));
         Rng& rng = stream ? *stream : own;
         glm::vec2 u = stratified(j, n, rng);
-        area += area_sample(s, brdf, rng.uniform(), u);
+        area += area_sample(s, brdf, rng.uniform(), u, MisCounts{n, brdf_samples});
       }
       sum += area / float(n);
     }
@@ -253,18 +289,32 @@ struct Shader::Tracer {
     return sum / float(settings.glossy_samples);
   }
 
-  // Samples the BRDF at s: a direction and f * cos / pdf; false when the path ends.
-  bool sample_brdf(const Surface& s, Rng& rng, glm::vec3& wi, glm::vec3& weight) const {
+  // Probability of sampling the GGX lobe rather than the cosine lobe; < 0: nothing reflects.
+  float specular_probability(const Surface& s, const BrdfParams& brdf) const {
+    if (!settings.specular) return 0.0f;
+    float spec = rgb_luminance(schlick(brdf.f0, glm::dot(s.shading_normal, s.wo)));
+    float diff = rgb_luminance(brdf.diffuse) * (1.0f - spec);
+    if (spec + diff <= 0.0f) return -1.0f;
+    return diff <= 0.0f ? 1.0f : std::clamp(spec / (spec + diff), 0.1f, 0.9f);
+  }
+
+  // Density of sample_brdf's direction wi (solid angle).
+  float brdf_pdf(const Surface& s, const BrdfParams& brdf, const glm::vec3& wi) const {
+    float p_specular = specular_probability(s, brdf);
+    float cos_i = glm::dot(s.shading_normal, wi);
+    if (p_specular < 0.0f || cos_i <= 0.0f) return 0.0f;
+    float pdf = (1.0f - p_specular) * cos_i * float(1.0 / M_PI);
+    if (p_specular > 0.0f) pdf += p_specular * ggx_reflection_pdf(s.shading_normal, s.wo, wi, brdf.alpha);
+    return pdf;
+  }
+
+  // Samples the BRDF at s: a direction, f * cos / pdf and the pdf; false when the path ends.
+  bool sample_brdf(const Surface& s, Rng& rng, glm::vec3& wi, glm::vec3& weight, float& pdf) const {
     BrdfParams brdf = BrdfParams::from(*s.material, settings.specular);
     const glm::vec3& n = s.shading_normal;
     Frame frame(n);
-    float p_specular = 0.0f;
-    if (settings.specular) {
-      float spec = rgb_luminance(schlick(brdf.f0, glm::dot(n, s.wo)));
-      float diff = rgb_luminance(brdf.diffuse) * (1.0f - spec);
-      if (spec + diff <= 0.0f) return false;
-      p_specular = diff <= 0.0f ? 1.0f : std::clamp(spec / (spec + diff), 0.1f, 0.9f);
-    }
+    float p_specular = specular_probability(s, brdf);
+    if (p_specular < 0.0f) return false;
     float choice = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform();
     if (choice < p_specular) {
       glm::vec3 h = frame.to_world(sample_ggx_half(u1, u2, brdf.alpha));
@@ -274,36 +324,52 @@ struct Shader::Tracer {
     }
     float cos_i = glm::dot(n, wi);
     if (cos_i <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f) return false;
-    float pdf = (1.0f - p_specular) * cos_i * float(1.0 / M_PI);
-    if (p_specular > 0.0f) pdf += p_specular * ggx_reflection_pdf(n, s.wo, wi, brdf.alpha);
+    pdf = brdf_pdf(s, brdf, wi);
     if (!(pdf > 0.0f)) return false;
     weight = eval_brdf(brdf, n, s.wo, wi) * (cos_i / pdf);
     return max_component(weight) > 0.0f;
   }
 
-  // Indirect light by path tracing: next-event estimation at every vertex, Russian roulette.
+  // Indirect light by path tracing: next-event estimation at every vertex, combined with the
+  // BRDF-sampled hits on emitters by the power heuristic; Russian roulette.
   glm::vec3 indirect(const Surface& primary, uint64_t key) {
-    if (settings.gi_paths <= 0) return glm::vec3(0.0f);
+    if (settings.gi_paths <= 0 || settings.gi_max_bounces <= 0) return glm::vec3(0.0f);
     glm::vec3 sum(0.0f);
+    const bool lights = has_area_lights();
     for (int p = 0; p < settings.gi_paths; ++p) {
       Rng rng(key, kStreamPath, uint64_t(p));
+      glm::vec3 path(0.0f);
       glm::vec3 throughput(1.0f);
       Surface s = primary;
+      // The primary hit's light samples are not MIS-weighted (there are many, and most paths
+      // miss small lights): its BRDF samples leave the area lights to them (weight 0).
+      MisCounts counts{settings.area_light_samples, 0};
       for (int bounce = 1; bounce <= settings.gi_max_bounces; ++bounce) {
         glm::vec3 wi, weight;
-        if (!sample_brdf(s, rng, wi, weight)) break;
+        float pdf = 0.0f;
+        if (!sample_brdf(s, rng, wi, weight, pdf)) break;
         throughput *= weight;
         Ray ray = spawn(s, wi);
         RayHit hit = trace(ray);
         if (!hit.hit) break;
-        s = surface(hit, ray);
-        sum += throughput * direct(s, settings.gi_light_samples, 0, &rng);
+        Surface next = surface(hit, ray);
+        if (max_component(emitted(next)) > 0.0f) {
+          float pdf_light = lights ? light_pdf(s, next) : 0.0f;
+          path += throughput * emitted(next) * power_heuristic(float(counts.brdf) * pdf, float(counts.light) * pdf_light);
+        }
+        s = next;
+        const bool continues = bounce < settings.gi_max_bounces;
+        counts = MisCounts{settings.gi_light_samples, continues ? 1 : 0};
+        path += throughput * direct(s, settings.gi_light_samples, 0, &rng, counts.brdf);
         if (bounce >= settings.gi_roulette_bounce) {
           float survive = std::min(0.95f, max_component(throughput));
           if (rng.uniform() >= survive) break;
           throughput /= survive;
         }
       }
+      float luminance = rgb_luminance(path);
+      if (settings.gi_path_clamp > 0.0f && luminance > settings.gi_path_clamp) path *= settings.gi_path_clamp / luminance;
+      sum += path;
     }
     return sum / float(settings.gi_paths);
   }
@@ -317,6 +383,7 @@ Shader::Shader(const RayScene& scene, const ShaderSettings& settings) : scene_(s
               settings.gi_paths >= 0 && settings.gi_light_samples >= 0,
           "sample counts must not be negative");
   require(settings.gi_max_bounces >= 0 && settings.gi_roulette_bounce >= 1, "bounce limits must be >= 0 and >= 1");
+  require(settings.gi_path_clamp >= 0.0f, "gi_path_clamp must not be negative");
   require(settings.ray_offset > 0.0f && settings.ray_offset < 0.1f, "ray_offset must be in (0, 0.1)");
 }
 

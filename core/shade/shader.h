@@ -24,6 +24,7 @@ struct ShaderSettings {
   int gi_light_samples = 1;              // area-light shadow rays per path vertex (gi)
   int gi_max_bounces = 8;                // longest path, in bounces after the primary hit (gi)
   int gi_roulette_bounce = 3;            // Russian roulette from this bounce on (gi)
+  float gi_path_clamp = 0.0f;            // cap on one path's indirect luminance (gi; 0: off; > 0 trades bias for no fireflies)
   bool specular = true;                  // false: Lambertian only (glTF base colour * (1 - metallic))
   bool record_blockers = true;           // report light-blocker-receiver triples (shadow rays find the blocker)
   uint64_t seed = 1;                     // every random stream derives from this

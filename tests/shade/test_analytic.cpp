@@ -224,7 +224,9 @@ TEST(Analytic, PointLightRangeWindow) {
     float window = std::clamp(1.0f - std::pow(d / 3.0f, 4.0f), 0.0f, 1.0f);
     float expected = kAlbedo * kInvPi * 6.0f * (to_light.z / d) / (d * d) * window;
     EXPECT_NEAR(r.color.x, expected, 1e-5f * expected + 1e-7f) << x;
-    if (d >= 3.0f) EXPECT_EQ(r.color.x, 0.0f);
+    if (d >= 3.0f) {
+      EXPECT_EQ(r.color.x, 0.0f);
+    }
   }
 }
 

@@ -87,3 +87,98 @@ TEST(Furnace, GlossyMetalRoomStaysBelowTheWhiteLimit) {
 
 }  // namespace
 }  // namespace epi
+
+namespace epi {
+namespace {
+
+// A floor under a square panel: with no light samples at the primary hit, one bounce of gi
+// finds the panel by BRDF sampling alone (weight 1), and must still give Lambert's formula.
+TEST(Mis, BrdfSamplingAloneFindsTheLight) {
+  Scene scene;
+  uint32_t floor = test::add_material(scene, glm::vec3(0.7f));
+  test::add_object(scene, test::quad_mesh({-10, -10, 0}, {20, 0, 0}, {0, 20, 0}, floor), "floor");
+  uint32_t emitter = test::add_material(scene, glm::vec3(0.0f), 0.0f, 1.0f, glm::vec3(5.0f));
+  uint32_t panel = test::add_object(scene, test::quad_mesh({-0.5f, -0.5f, 1}, {0, 1, 0}, {1, 0, 0}, emitter), "panel");
+  test::add_area_light(scene, panel);
+  RayScene rays(scene);
+  ShaderSettings settings;
+  settings.specular = false;
+  settings.kind = ShaderKind::gi;
+  settings.area_light_samples = 0;
+  settings.gi_paths = 65536;
+  settings.gi_max_bounces = 1;
+  Shader gi(rays, settings);
+  View view{test::look({3, -2, 1.5f}, {0, 0, 0}), 64, 64};
+  std::vector<ShadeRequest> requests;
+  for (int i = 0; i < 4; ++i) requests.push_back({uint32_t(i), 16.0f + 8.0f * float(i), 30.0f + 3.0f * float(i)});
+  ShadeBatch batch;
+  gi.shade(view, requests, batch);
+  for (const ShadeResult& r : batch.results) {
+    ASSERT_TRUE(r.hit);
+    double sum = 0.0;  // Lambert's formula (see test_analytic.cpp)
+    const glm::dvec3 square[4] = {{-0.5, -0.5, 1}, {0.5, -0.5, 1}, {0.5, 0.5, 1}, {-0.5, 0.5, 1}};
+    for (int i = 0; i < 4; ++i) {
+      glm::dvec3 a = glm::normalize(square[i] - glm::dvec3(r.position)), b = glm::normalize(square[(i + 1) % 4] - glm::dvec3(r.position));
+      sum += std::acos(glm::dot(a, b)) * glm::normalize(glm::cross(a, b)).z;
+    }
+    double expected = 0.7 / M_PI * 5.0 / 2.0 * std::abs(sum);
+    EXPECT_NEAR(r.color.x, expected, 0.04 * expected) << r.id;  // ~1.7% noise
+  }
+}
+
+// Light seen in a glossy metal wall from a Lambertian floor (a two-bounce path). At the wall,
+// light sampling and BRDF sampling are combined by the power heuristic; turning light samples
+// off there (gi_light_samples = 0) leaves BRDF sampling alone. Both must agree on average.
+TEST(Mis, CombinedAndBrdfOnlyEstimatesAgree) {
+  Scene scene;
+  uint32_t white = test::add_material(scene, glm::vec3(0.8f));
+  uint32_t metal = test::add_material(scene, glm::vec3(0.9f), 1.0f, 0.25f);
+  uint32_t emitter = test::add_material(scene, glm::vec3(0.0f), 0.0f, 1.0f, glm::vec3(10.0f));
+  test::add_object(scene, test::quad_mesh({-10, -10, 0}, {20, 0, 0}, {0, 20, 0}, white), "floor");
+  test::add_object(scene, test::quad_mesh({-10, 2, 0}, {20, 0, 0}, {0, 0, 10}, metal), "wall");  // y = 2, facing -y
+  uint32_t panel = test::add_object(scene, test::quad_mesh({-0.5f, 0.5f, 2}, {0, 1, 0}, {1, 0, 0}, emitter), "panel");
+  test::add_area_light(scene, panel);
+  RayScene rays(scene);
+  ShaderSettings settings;
+  settings.kind = ShaderKind::gi;
+  settings.area_light_samples = 4;
+  settings.gi_paths = 2048;
+  settings.gi_max_bounces = 2;
+  settings.gi_roulette_bounce = 10;
+  Shader combined(rays, settings);
+  settings.gi_light_samples = 0;
+  Shader brdf_only(rays, settings);
+  View view{test::look({0, -4, 1.5f}, {0, 0.5f, 0}), 32, 32};
+  std::vector<ShadeRequest> requests;
+  for (int i = 0; i < 8; ++i) requests.push_back({uint32_t(i), 4.0f + 3.0f * float(i), 24.0f + 0.5f * float(i)});
+  ShadeBatch a, b;
+  combined.shade(view, requests, a);
+  brdf_only.shade(view, requests, b);
+  double sum_a = 0.0, sum_b = 0.0;
+  for (size_t i = 0; i < requests.size(); ++i) {
+    ASSERT_TRUE(a.results[i].hit);
+    ASSERT_EQ(a.results[i].object, 0u);
+    sum_a += a.results[i].color.x;
+    sum_b += b.results[i].color.x;
+  }
+  EXPECT_NEAR(sum_a, sum_b, 0.03 * sum_b);
+}
+
+TEST(Furnace, PathClampBoundsEachPath) {
+  Scene scene = furnace(0.5f);
+  RayScene rays(scene);
+  ShaderSettings settings;
+  settings.kind = ShaderKind::gi;
+  settings.specular = false;
+  settings.gi_paths = 8;
+  settings.gi_path_clamp = 0.1f;
+  Shader shader(rays, settings);
+  float radiance = mean_radiance(shader).x;
+  EXPECT_LE(radiance, kLe * 1.5f * 1.02f + 0.1f);  // emission + direct + at most the clamp
+  EXPECT_GE(radiance, kLe * 1.5f * 0.98f);
+  settings.gi_path_clamp = -1.0f;
+  EXPECT_THROW(Shader(rays, settings), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace epi

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <future>
 
 #include <tbb/task_arena.h>
 
@@ -134,7 +135,18 @@ TEST(AsyncShader, CancelsUpdatesBetweenBatchesAndShutsDown) {
     ShadeBatch taken;
     size_t got = async.take_results(taken);
     EXPECT_EQ(got + dropped, 2000u);
-    EXPECT_GT(dropped, 0u);
+
+    // Hold the worker in an update: everything submitted meanwhile can be cancelled.
+    std::promise<void> gate;
+    std::shared_future<void> opened = gate.get_future().share();
+    async.run_between_batches([opened] { opened.wait(); });
+    async.submit(kView, scattered_requests(300));
+    EXPECT_EQ(async.pending_requests(), 300u);
+    EXPECT_EQ(async.cancel_pending(), 300u);
+    gate.set_value();
+    async.wait_idle();
+    taken.clear();
+    EXPECT_EQ(async.take_results(taken), 0u);
 
     // Move the floor down by 0.5 between batches: later results see it there.
     bool moved = false;
