@@ -57,8 +57,14 @@ void complex_pixel(const EpiImage& epi, const BoundaryMasks& masks, int x, int y
         const int bu = u + (dir == 0), bv = v + (dir == 1);
         if (bu >= kGrid || bv >= kGrid || sub[bv][bu].kind == CellKind::complex) continue;
         const SubPixel& b = sub[bv][bu];
-        for (int k = 0; k < 8; ++k) {
-          const double t = (k + 0.5) / 8.0;  // never a segment centre, where the edges meet the side
+        if (a.kind == CellKind::empty && b.kind == CellKind::empty) {
+          const int ra = find(parent, node(u, v, 0)), rb = find(parent, node(bu, bv, 0));
+          if (ra != rb) parent[ra] = rb;
+          continue;
+        }
+        // A shared side holds at most one crossing, at a piece centre in [1/8, 7/8]: probing
+        // both ends of the side meets every region that touches it.
+        for (const double t : {1.0 / 16.0, 15.0 / 16.0}) {
           const geom::Vec2 pa = dir == 0 ? geom::Vec2{1, t} : geom::Vec2{t, 1};
           const geom::Vec2 pb = dir == 0 ? geom::Vec2{0, t} : geom::Vec2{t, 0};
           const int ra = find(parent, node(u, v, region_at(a, pa)));

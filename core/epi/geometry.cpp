@@ -1,6 +1,7 @@
 #include "epi/geometry.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <vector>
@@ -30,14 +31,15 @@ CellEdge cell_edge(int p_low, int p_high, int n) {
 
 double area_a(const CellEdge& e) {
   // Polygon: a, the corners on the arc, b.
-  std::vector<Vec2> poly{e.a};
+  Vec2 poly[5] = {e.a};
+  size_t count = 1;
   const double from = e.p_low + 0.5, to = e.p_high + 0.5;
   for (int k = 1; k < 4; ++k)
-    if (k * e.n > from && k * e.n < to) poly.push_back(perimeter_point(k * e.n, e.n));
-  poly.push_back(e.b);
+    if (k * e.n > from && k * e.n < to) poly[count++] = perimeter_point(k * e.n, e.n);
+  poly[count++] = e.b;
   double twice = 0.0;
-  for (size_t i = 0; i < poly.size(); ++i) {
-    const Vec2 p = poly[i], q = poly[(i + 1) % poly.size()];
+  for (size_t i = 0; i < count; ++i) {
+    const Vec2 p = poly[i], q = poly[(i + 1) % count];
     twice += p.x * q.y - q.x * p.y;
   }
   return std::abs(twice) * 0.5;
@@ -83,8 +85,14 @@ double square_fraction_on_side(const CellEdge& e, int region, double x0, double 
 }
 
 CellClass classify_cell(const uint8_t masks[4], int n) {
+  // Bit counts by table: the baseline x86-64 target has no popcnt instruction.
+  static constexpr auto kBits = [] {
+    std::array<uint8_t, 256> t{};
+    for (int i = 0; i < 256; ++i) t[size_t(i)] = uint8_t(std::popcount(unsigned(i)));
+    return t;
+  }();
   int count = 0;
-  for (int s = 0; s < 4; ++s) count += std::popcount(unsigned(masks[s]));
+  for (int s = 0; s < 4; ++s) count += kBits[masks[s]];
   if (count <= 1) return {CellKind::empty, 0, 0};  // no edge, or one that ends inside
   if (count > 2) return {CellKind::complex, 0, 0};
   int positions[2], found = 0;

@@ -68,10 +68,19 @@ Reconstruction reconstruct_oracle(EpiImage& epi, const BoundaryMasks& masks, con
 
 Reconstruction reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
                                  const Schedule& schedule) {
+  Reconstruction r;
+  reconstruct_tiled(epi, masks, s, schedule, r);
+  return r;
+}
+
+void reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
+                       const Schedule& schedule, Reconstruction& r) {
   check_sizes(epi, masks);
   const int w = epi.width, h = epi.height;
-  Reconstruction r{RgbImage(w, h), std::vector<float>(size_t(w) * size_t(h)), {}};
-  if (w == 0 || h == 0) return r;
+  if (r.image.width != w || r.image.height != h) r.image = RgbImage(w, h);
+  r.priority.resize(size_t(w) * size_t(h));
+  r.counts = {};
+  if (w == 0 || h == 0) return;
   const int band_rows = std::max(1, schedule.rows_per_band);
   const int bands = (h + band_rows - 1) / band_rows;
   std::vector<ClassCounts> band_counts(static_cast<size_t>(bands));
@@ -131,7 +140,6 @@ Reconstruction reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, cons
       }
     }, tbb::simple_partitioner());
   });
-  return r;
 }
 
 }  // namespace epi

@@ -43,5 +43,9 @@ struct Reconstruction {
 Reconstruction reconstruct_oracle(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings);
 Reconstruction reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings,
                                  const Schedule& schedule = {});
+// The same into `out`, whose buffers are reused when they have the right size (no per-frame
+// allocation and clearing of 16 bytes per pixel).
+void reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings,
+                       const Schedule& schedule, Reconstruction& out);
 
 }  // namespace epi

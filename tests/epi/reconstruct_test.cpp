@@ -139,6 +139,19 @@ TEST(Tiled, FourKImage) {
   expect_tiled_equals_oracle(p, {{Filter::epi, true, true}, 0.1}, 4, {{32, 2}});
 }
 
+TEST(Tiled, ReusedOutputBuffersGiveTheSameResult) {
+  Reconstruction reused;
+  for (uint64_t seed = 1; seed <= 3; ++seed) {
+    test::Built b = test::build(test::random_pattern(30 + int(seed), 20, 10, seed), 0.4, seed);
+    EpiImage copy = b.epi;
+    reconstruct_tiled(b.epi, b.masks, {}, {4, 2}, reused);
+    const Reconstruction fresh = reconstruct_oracle(copy, b.masks, {});
+    ASSERT_TRUE(same_bits(reused.image.pixels, fresh.image.pixels));
+    ASSERT_TRUE(same_bits(reused.priority, fresh.priority));
+    ASSERT_EQ(reused.counts.simple, fresh.counts.simple);
+  }
+}
+
 TEST(Reconstruct, NoSamplesGiveBlackAtTopPriority) {
   test::Built b = test::build(test::random_pattern(20, 20, 5, 3), 0.0, 1);
   const Reconstruction r = reconstruct_tiled(b.epi, b.masks, {});
