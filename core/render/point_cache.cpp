@@ -1,0 +1,259 @@
+#include "render/point_cache.h"
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+namespace epi::render {
+
+namespace {
+
+constexpr uint64_t kEmptyKey = ~uint64_t(0);
+constexpr uint32_t kIndexMask = 0x0fffffffu;  // point index; bits 28-31 hold the sub-pixel region
+
+// Z-buffer key: depth first (positive floats order like their bits), then region and index.
+uint64_t zkey(float depth, int region, uint32_t index) {
+  return uint64_t(std::bit_cast<uint32_t>(depth)) << 32 | uint64_t(region) << 28 | index;
+}
+
+void atomic_min(uint64_t& slot, uint64_t value) {
+  std::atomic_ref<uint64_t> ref(slot);
+  uint64_t current = ref.load(std::memory_order_relaxed);
+  while (value < current && !ref.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
+  }
+}
+
+uint32_t pack_srgb(const glm::vec3& c) {
+  return uint32_t(encode_srgb8(c.r)) | uint32_t(encode_srgb8(c.g)) << 8 | uint32_t(encode_srgb8(c.b)) << 16;
+}
+
+bool shading_changed(const glm::vec3& before, const glm::vec3& after, float threshold) {
+  const glm::vec3 d = glm::abs(after - before);
+  const float scale = 0.5f * (before.r + before.g + before.b + after.r + after.g + after.b) + 0.03f;
+  return (d.r + d.g + d.b) > threshold * scale;
+}
+
+}  // namespace
+
+PointCache::PointCache(int width, int height, const PointCacheSettings& settings) : settings_(settings) {
+  if (width <= 0 || height <= 0) throw std::invalid_argument("point cache: image size is not positive");
+  const double capacity = std::ceil(double(width) * double(height) * std::max(1.0, settings.capacity_factor));
+  if (capacity > double(kIndexMask)) throw std::invalid_argument("point cache: image too large");
+  points_.resize(size_t(capacity));
+  free_slots_.reserve(points_.size());
+  for (size_t i = points_.size(); i-- > 0;) free_slots_.push_back(uint32_t(i));
+  const size_t pixels = size_t(width) * size_t(height);
+  image_.width = width, image_.height = height;
+  image_.point.assign(pixels, -1);
+  image_.depth.assign(pixels, std::numeric_limits<float>::infinity());
+  image_.region.assign(pixels, 0);
+  zbuffer_.assign(pixels, kEmptyKey);
+  winners_.assign(pixels, -1);
+}
+
+size_t PointCache::valid_points() const {
+  return size_t(std::count_if(points_.begin(), points_.end(), [](const CachePoint& p) { return p.valid; }));
+}
+
+glm::vec3 PointCache::world_position(const CachePoint& p, const ViewFrame& frame,
+                                     std::span<const glm::mat4> object_to_world) const {
+  if (p.object == kNone || p.object >= object_to_world.size()) return frame.eye() + p.local * background_depth_;
+  return glm::vec3(object_to_world[p.object] * glm::vec4(p.local, 1.0f));
+}
+
+ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm::mat4> object_to_world) {
+  const int w = image_.width, h = image_.height;
+  if (frame.view().width != w || frame.view().height != h)
+    throw std::invalid_argument("point cache: view size differs from the cache's image size");
+  std::fill(zbuffer_.begin(), zbuffer_.end(), kEmptyKey);
+  const float znear = std::max(frame.view().camera.znear, 0.0f);
+  const int max_age = settings_.max_age;
+
+  // Aging and projection with a z-buffer (points in parallel; the minimum key wins).
+  struct Counts {
+    size_t projected = 0, expired = 0;
+  };
+  const Counts counts = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, points_.size(), 4096), Counts{},
+      [&](const tbb::blocked_range<size_t>& range, Counts c) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+          CachePoint& p = points_[i];
+          if (!p.valid) continue;
+          p.age = uint16_t(std::min(p.age + 1, 0xffff));
+          const Projection proj = frame.project(world_position(p, frame, object_to_world));
+          const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
+                              proj.pixel.x < float(w) && proj.pixel.y < float(h);
+          if (!inside) {
+            p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
+            p.image_id = -1;
+          }
+          if (p.age > max_age) {
+            p.valid = false, p.image_id = -1;
+            ++c.expired;
+            continue;
+          }
+          if (!inside) continue;
+          const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
+          const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
+          const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
+          const size_t pixel = size_t(py) * size_t(w) + size_t(px);
+          p.image_id = int32_t(pixel);
+          atomic_min(zbuffer_[pixel], zkey(proj.depth, rx + 4 * ry, uint32_t(i)));
+          ++c.projected;
+        }
+        return c;
+      },
+      [](Counts a, const Counts& b) {
+        a.projected += b.projected, a.expired += b.expired;
+        return a;
+      });
+
+  // Unpack the z-buffer.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, zbuffer_.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const uint64_t key = zbuffer_[i];
+      if (key == kEmptyKey) {
+        winners_[i] = -1;
+        image_.depth[i] = std::numeric_limits<float>::infinity();
+        continue;
+      }
+      winners_[i] = int32_t(uint32_t(key) & kIndexMask);
+      image_.depth[i] = std::bit_cast<float>(uint32_t(key >> 32));
+      image_.region[i] = uint8_t((uint32_t(key) >> 28) & 15);
+    }
+  });
+
+  // Depth cull: remove a point deeper than (1 + offset) x the mean depth of the points in its 3x3.
+  const float cull_scale = 1.0f + settings_.depth_cull_offset;
+  const auto cull_counts = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, h, 8), std::pair<size_t, size_t>{0, 0},
+      [&](const tbb::blocked_range<int>& rows, std::pair<size_t, size_t> c) {
+        for (int y = rows.begin(); y != rows.end(); ++y)
+          for (int x = 0; x < w; ++x) {
+            const size_t i = image_.index(x, y);
+            image_.point[i] = winners_[i];
+            if (winners_[i] < 0) continue;
+            double sum = 0.0;
+            int n = 0;
+            for (int dy = -1; dy <= 1; ++dy)
+              for (int dx = -1; dx <= 1; ++dx) {
+                const int qx = x + dx, qy = y + dy;
+                if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
+                const size_t q = image_.index(qx, qy);
+                if (winners_[q] < 0) continue;
+                sum += image_.depth[q];
+                ++n;
+              }
+            if (image_.depth[i] > float(sum / n) * cull_scale) {
+              image_.point[i] = -1;
+              ++c.second;
+            } else {
+              ++c.first;
+            }
+          }
+        return c;
+      },
+      [](std::pair<size_t, size_t> a, const std::pair<size_t, size_t>& b) {
+        return std::pair<size_t, size_t>{a.first + b.first, a.second + b.second};
+      });
+  // The culled pixels' depth stays +inf for later stages.
+  for (size_t i = 0; i < winners_.size(); ++i)
+    if (winners_[i] >= 0 && image_.point[i] < 0) image_.depth[i] = std::numeric_limits<float>::infinity();
+
+  // Free the slots of expired points.
+  if (counts.expired > 0) {
+    free_slots_.clear();
+    for (size_t i = points_.size(); i-- > 0;)
+      if (!points_[i].valid) free_slots_.push_back(uint32_t(i));
+  }
+  last_frame_.emplace(frame);
+  return {counts.projected, cull_counts.first, cull_counts.second, counts.expired};
+}
+
+size_t PointCache::take_slot() {
+  while (!free_slots_.empty()) {
+    const uint32_t slot = free_slots_.back();
+    free_slots_.pop_back();
+    if (!points_[slot].valid) return slot;
+  }
+  const size_t slot = cursor_;
+  cursor_ = (cursor_ + 1) % points_.size();
+  return slot;
+}
+
+size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::span<const glm::mat4> object_to_world) {
+  std::vector<glm::mat4> to_object(object_to_world.size());
+  std::vector<uint8_t> inverted(object_to_world.size(), 0);
+  const int w = image_.width, h = image_.height;
+  size_t inserted = 0;
+  for (const ShadeResult& r : batch.results) {
+    CachePoint point;
+    point.color = glm::max(r.color, glm::vec3(0.0f));
+    point.srgb = pack_srgb(point.color);
+    point.valid = true;
+    glm::vec3 world;
+    if (r.hit && r.object < object_to_world.size()) {
+      if (!inverted[r.object]) to_object[r.object] = glm::inverse(object_to_world[r.object]), inverted[r.object] = 1;
+      point.object = r.object;
+      point.local = glm::vec3(to_object[r.object] * glm::vec4(r.position, 1.0f));
+      world = r.position;
+    } else {
+      point.object = kNone;
+      point.local = shot.ray(r.x, r.y).direction;
+      world = shot.eye() + point.local * background_depth_;
+    }
+
+    // The point drawn where this result lands in the last projection: replaced if it is the same surface.
+    int32_t replace = -1;
+    if (last_frame_) {
+      const Projection proj = last_frame_->project(world);
+      if (proj.in_front() && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f && proj.pixel.x < float(w) &&
+          proj.pixel.y < float(h)) {
+        const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
+        const int32_t old = image_.point[image_.index(px, py)];
+        if (old >= 0 && points_[size_t(old)].valid && points_[size_t(old)].object == point.object &&
+            (point.object == kNone || std::abs(image_.depth[image_.index(px, py)] - proj.depth) <= 0.05f * proj.depth)) {
+          replace = old;
+          if (shading_changed(points_[size_t(old)].color, point.color, settings_.change_threshold)) {
+            const int r0 = settings_.change_radius;
+            for (int qy = std::max(0, py - r0); qy <= std::min(h - 1, py + r0); ++qy)
+              for (int qx = std::max(0, px - r0); qx <= std::min(w - 1, px + r0); ++qx) {
+                const int32_t q = image_.point[image_.index(qx, qy)];
+                if (q >= 0) points_[size_t(q)].age = uint16_t(std::min(points_[size_t(q)].age + settings_.change_penalty, 0xffff));
+              }
+          }
+        }
+      }
+    }
+    points_[replace >= 0 ? size_t(replace) : take_slot()] = point;
+    ++inserted;
+  }
+  return inserted;
+}
+
+void PointCache::fill_epi(EpiImage& epi) const {
+  if (epi.width != image_.width || epi.height != image_.height)
+    throw std::invalid_argument("point cache: EPI size differs from the cache's image size");
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, image_.point.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const int32_t p = image_.point[i];
+      if (p < 0) {
+        epi.edge[i] = 0;
+        epi.color[i] = 0;
+        continue;
+      }
+      const CachePoint& point = points_[size_t(p)];
+      epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
+      epi.color[i] = point.srgb | uint32_t(std::min<int>(point.age, 255)) << bits::kAgeShift;
+    }
+  });
+}
+
+}  // namespace epi::render

@@ -1,0 +1,277 @@
+// The point cache against analytic set-ups: planes seen by a pinhole camera, whose hits,
+// depths and projections are known exactly.
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+#include "render/point_cache.h"
+
+namespace epi::render {
+namespace {
+
+Camera camera_at(glm::vec3 eye, glm::vec3 target, float fov = 40.0f) {
+  Camera c;
+  c.eye = eye, c.target = target, c.up = glm::vec3(0, 1, 0), c.yfov_degrees = fov;
+  return c;
+}
+
+View view_of(const Camera& c, int w, int h) {
+  View v;
+  v.camera = c, v.width = w, v.height = h;
+  return v;
+}
+
+// A shading result where the ray through (x, y) meets the plane z = plane_z (world space).
+ShadeResult plane_hit(const ViewFrame& frame, float x, float y, float plane_z, uint32_t object, glm::vec3 color,
+                      const glm::mat4& object_to_world = glm::mat4(1.0f)) {
+  const Ray ray = frame.ray(x, y);
+  const float t = (plane_z - ray.origin.z) / ray.direction.z;
+  ShadeResult r;
+  r.x = x, r.y = y, r.hit = t > 0.0f, r.object = object;
+  r.position = ray.origin + t * ray.direction;
+  (void)object_to_world;
+  r.color = color;
+  return r;
+}
+
+// One result at every pixel, at sub-pixel position (fx, fy).
+ShadeBatch full_plane(const ViewFrame& frame, float plane_z, float fx = 0.5f, float fy = 0.5f, glm::vec3 color = glm::vec3(0.5f)) {
+  ShadeBatch batch;
+  for (int y = 0; y < frame.view().height; ++y)
+    for (int x = 0; x < frame.view().width; ++x)
+      batch.results.push_back(plane_hit(frame, float(x) + fx, float(y) + fy, plane_z, 0, color));
+  return batch;
+}
+
+const std::vector<glm::mat4> kIdentity(4, glm::mat4(1.0f));
+
+TEST(PointCache, CapacityIsSlightlyLargerThanThePixelCount) {
+  PointCache cache(100, 50);
+  EXPECT_GE(cache.capacity(), 5000u);
+  EXPECT_LE(cache.capacity(), 6000u);
+  EXPECT_EQ(cache.valid_points(), 0u);
+  EXPECT_THROW(PointCache(0, 10), std::invalid_argument);
+}
+
+TEST(PointCache, StaticCameraAndPlaneGiveOnePointPerPixelAtItsSubPixelPosition) {
+  const int w = 48, h = 32;
+  const ViewFrame frame(view_of(camera_at({0.3f, -0.2f, 10.0f}, {0.3f, -0.2f, 0.0f}), w, h));
+  for (const auto& [fx, fy] : {std::pair{0.6f, 0.4f}, std::pair{0.1f, 0.9f}, std::pair{0.7f, 0.3f}}) {
+    PointCache cache(w, h);
+    cache.insert(frame, full_plane(frame, 0.0f, fx, fy), kIdentity);
+    const ProjectionCounts counts = cache.project(frame, kIdentity);
+    EXPECT_EQ(counts.projected, size_t(w * h));
+    EXPECT_EQ(counts.drawn, size_t(w * h));
+    EXPECT_EQ(counts.culled, 0u);
+    const PointImage& image = cache.image();
+    const int region = std::min(3, int(fx * 4)) + 4 * std::min(3, int(fy * 4));
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = image.index(x, y);
+        ASSERT_GE(image.point[i], 0);
+        EXPECT_EQ(image.region[i], region) << x << "," << y;
+        EXPECT_NEAR(image.depth[i], 10.0f, 1e-4f);
+        EXPECT_EQ(cache.points()[size_t(image.point[i])].image_id, int32_t(i));
+      }
+    EpiImage epi(w, h);
+    cache.fill_epi(epi);
+    for (size_t i = 0; i < epi.edge.size(); ++i) {
+      EXPECT_TRUE(has_sample(epi.edge[i]));
+      EXPECT_EQ(sample_region(epi.edge[i]), region);
+      EXPECT_EQ(sample_age(epi.color[i]), 1);
+    }
+  }
+}
+
+// Points shaded from one camera, then projected from a moved camera: every point lands where
+// ViewFrame::project says, and each pixel shows the nearest of the points landing in it.
+TEST(PointCache, MovedCameraReprojectsPointsWhereProjectSaysWithAZBuffer) {
+  const int w = 40, h = 40;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const ViewFrame shot(view_of(camera_at({0, 0, 8}, {0, 0, 0}), w, h));
+  // Two planes (z = 0 and z = -2 behind it, only where the first has no sample).
+  ShadeBatch batch;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float px = float(x) + unit(rng), py = float(y) + unit(rng);
+      batch.results.push_back(plane_hit(shot, px, py, (x + y) % 3 ? 0.0f : -2.0f, 0, glm::vec3(unit(rng))));
+    }
+  for (int trial = 0; trial < 5; ++trial) {
+    PointCache cache(w, h, PointCacheSettings{.depth_cull_offset = 1e9f});  // no culling here
+    cache.insert(shot, batch, kIdentity);
+    const glm::vec3 eye(2.0f * unit(rng) - 1.0f, 2.0f * unit(rng) - 1.0f, 6.0f + 3.0f * unit(rng));
+    const ViewFrame moved(view_of(camera_at(eye, {0.5f * unit(rng), 0.2f, 0.0f}, 35.0f + 10.0f * unit(rng)), w, h));
+    cache.project(moved, kIdentity);
+    // Brute force: nearest point per pixel.
+    std::vector<float> nearest(size_t(w * h), INFINITY);
+    for (const CachePoint& p : cache.points()) {
+      if (!p.valid) continue;
+      const Projection proj = moved.project(p.local);
+      const bool inside = proj.in_front() && proj.pixel.x >= 0 && proj.pixel.y >= 0 && proj.pixel.x < w && proj.pixel.y < h;
+      if (!inside) {
+        EXPECT_EQ(p.image_id, -1);
+        continue;
+      }
+      const int px = int(proj.pixel.x), py = int(proj.pixel.y);
+      EXPECT_EQ(p.image_id, py * w + px);
+      nearest[size_t(py * w + px)] = std::min(nearest[size_t(py * w + px)], proj.depth);
+    }
+    const PointImage& image = cache.image();
+    for (size_t i = 0; i < nearest.size(); ++i) {
+      if (std::isinf(nearest[i])) {
+        EXPECT_LT(image.point[i], 0);
+        continue;
+      }
+      ASSERT_GE(image.point[i], 0);
+      EXPECT_EQ(image.depth[i], nearest[i]);
+      const Projection proj = moved.project(cache.points()[size_t(image.point[i])].local);
+      const int x = int(i) % w, y = int(i) / w;
+      const int region = std::min(3, int((proj.pixel.x - float(x)) * 4)) + 4 * std::min(3, int((proj.pixel.y - float(y)) * 4));
+      EXPECT_EQ(image.region[i], region);
+    }
+  }
+}
+
+// A far plane fully sampled and a nearer square sampled at every other pixel of every other row:
+// far points showing through the gaps of the near square are culled; far points outside it are
+// kept. (At a quarter of the density the 3x3 mean is pulled at least 11% nearer than the far plane.)
+TEST(PointCache, DepthCullRemovesPointsBehindANearerSurface) {
+  const int w = 64, h = 64;
+  const ViewFrame frame(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  PointCache cache(w, h);
+  cache.insert(frame, full_plane(frame, 0.0f, 0.5f, 0.5f, glm::vec3(0.2f)), kIdentity);
+  ShadeBatch near;
+  for (int y = 16; y < 48; ++y)
+    for (int x = 16; x < 48; ++x)
+      if (x % 2 == 0 && y % 2 == 0) near.results.push_back(plane_hit(frame, x + 0.5f, y + 0.5f, 5.0f, 1, glm::vec3(0.9f)));
+  // Overwriting must not replace far points: insert near points after projecting once.
+  cache.project(frame, kIdentity);
+  cache.insert(frame, near, kIdentity);
+  const ProjectionCounts counts = cache.project(frame, kIdentity);
+  EXPECT_GT(counts.culled, 0u);
+  const PointImage& image = cache.image();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int32_t p = image.point[image.index(x, y)];
+      const bool inner = x >= 18 && x < 46 && y >= 18 && y < 46;  // well inside the near square
+      const bool outer = x < 14 || x >= 50 || y < 14 || y >= 50;
+      if (inner) {
+        EXPECT_TRUE(p < 0 || cache.points()[size_t(p)].object == 1) << x << "," << y;
+      }
+      if (outer) {
+        ASSERT_GE(p, 0);
+        EXPECT_EQ(cache.points()[size_t(p)].object, 0u);
+      }
+      if (x >= 16 && x < 48 && y >= 16 && y < 48 && x % 2 == 0 && y % 2 == 0) {
+        ASSERT_GE(p, 0);
+        EXPECT_EQ(cache.points()[size_t(p)].object, 1u);
+      }
+    }
+}
+
+TEST(PointCache, PointsFollowTheirMovingObject) {
+  const int w = 64, h = 64;
+  const ViewFrame frame(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  std::vector<glm::mat4> transforms = {glm::mat4(1.0f), glm::mat4(1.0f)};
+  PointCache cache(w, h);
+  ShadeBatch batch = full_plane(frame, 0.0f);
+  for (ShadeResult& r : batch.results) {  // object 1: a square [-1, 1]^2 at z = 2
+    const ShadeResult n = plane_hit(frame, r.x, r.y, 2.0f, 1, glm::vec3(1.0f));
+    if (std::abs(n.position.x) < 1.0f && std::abs(n.position.y) < 1.0f) r = n;
+  }
+  cache.insert(frame, batch, transforms);
+  cache.project(frame, transforms);
+  transforms[1] = glm::translate(glm::mat4(1.0f), glm::vec3(1.5f, 0.5f, 0.0f));
+  cache.project(frame, transforms);
+  size_t moved = 0;
+  for (const CachePoint& p : cache.points()) {
+    if (!p.valid || p.object != 1) continue;
+    const glm::vec3 world = cache.world_position(p, frame, transforms);
+    EXPECT_GE(world.x, 0.5f - 1e-4f);
+    EXPECT_LE(world.x, 2.5f + 1e-4f);
+    EXPECT_GE(world.y, -0.5f - 1e-4f);
+    EXPECT_LE(world.y, 1.5f + 1e-4f);
+    const Projection proj = frame.project(world);
+    EXPECT_EQ(p.image_id, int(proj.pixel.y) * w + int(proj.pixel.x));
+    ++moved;
+  }
+  EXPECT_GT(moved, 100u);
+}
+
+TEST(PointCache, StalePointsExpireAfterTheMaximumAgeFasterOffScreen) {
+  const int w = 32, h = 32;
+  const ViewFrame frame(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  const ViewFrame away(view_of(camera_at({0, 0, 10}, {0, 0, 20}), w, h));  // looking the other way
+  PointCacheSettings s;
+  s.max_age = 20, s.offscreen_penalty = 3;
+  for (bool offscreen : {false, true}) {
+    PointCache cache(w, h, s);
+    cache.insert(frame, full_plane(frame, 0.0f), kIdentity);
+    int frames = 0;
+    while (cache.valid_points() > 0 && frames < 100) {
+      cache.project(offscreen ? away : frame, kIdentity);
+      ++frames;
+      if (!offscreen && frames <= s.max_age) {
+        EXPECT_EQ(cache.valid_points(), size_t(w * h));
+      }
+    }
+    // Age grows by 1 (+3 off screen) per frame; points older than max_age are freed.
+    EXPECT_EQ(frames, offscreen ? (s.max_age + 4) / 4 : s.max_age + 1);
+    cache.project(frame, kIdentity);
+    EXPECT_EQ(cache.image().point[0], -1);
+  }
+}
+
+TEST(PointCache, NewResultsOverwriteOldPointsAndChangedShadingAgesTheNeighbourhood) {
+  const int w = 32, h = 32;
+  const ViewFrame frame(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  PointCache cache(w, h);
+  cache.insert(frame, full_plane(frame, 0.0f, 0.5f, 0.5f, glm::vec3(0.5f)), kIdentity);
+  cache.project(frame, kIdentity);
+  const size_t before = cache.valid_points();
+  auto age_at = [&](int x, int y) { return cache.points()[size_t(cache.image().point[cache.image().index(x, y)])].age; };
+  // The same colour again: replaces the point, no aging around it.
+  ShadeBatch same;
+  same.results.push_back(plane_hit(frame, 10.25f, 10.25f, 0.0f, 0, glm::vec3(0.5f)));
+  cache.insert(frame, same, kIdentity);
+  EXPECT_EQ(cache.valid_points(), before);
+  cache.project(frame, kIdentity);
+  EXPECT_EQ(age_at(10, 10), 1);
+  EXPECT_EQ(age_at(11, 10), 2);
+  EXPECT_EQ(cache.image().region[cache.image().index(10, 10)], 1 + 4 * 1);
+  // A much brighter result: the points in the 5x5 around it are aged.
+  ShadeBatch changed;
+  changed.results.push_back(plane_hit(frame, 20.5f, 20.5f, 0.0f, 0, glm::vec3(2.0f)));
+  cache.insert(frame, changed, kIdentity);
+  EXPECT_EQ(cache.valid_points(), before);
+  cache.project(frame, kIdentity);
+  const int penalty = cache.settings().change_penalty;
+  EXPECT_EQ(age_at(20, 20), 1);
+  EXPECT_EQ(age_at(22, 22), 3 + penalty);
+  EXPECT_EQ(age_at(23, 20), 3);
+}
+
+TEST(PointCache, BackgroundPointsStayAtTheirDirectionWhenTheCameraTranslates) {
+  const int w = 32, h = 32;
+  const ViewFrame frame(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  ShadeBatch batch;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      ShadeResult r;
+      r.x = x + 0.5f, r.y = y + 0.5f, r.hit = false, r.color = glm::vec3(0.1f);
+      batch.results.push_back(r);
+    }
+  PointCache cache(w, h);
+  cache.insert(frame, batch, kIdentity);
+  const ViewFrame shifted(view_of(camera_at({3, 2, 10}, {3, 2, 0}), w, h));
+  const ProjectionCounts counts = cache.project(shifted, kIdentity);
+  EXPECT_EQ(counts.drawn, size_t(w * h));
+  for (int i = 0; i < w * h; ++i) EXPECT_EQ(cache.points()[size_t(cache.image().point[size_t(i)])].image_id, i);
+}
+
+}  // namespace
+}  // namespace epi::render
