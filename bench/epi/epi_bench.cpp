@@ -152,16 +152,20 @@ void BM_Reachability(benchmark::State& state) {
   Frame& f = frame(int(state.range(0)), int(state.range(1)));
   const int w = f.epi.width, h = f.epi.height;
   std::vector<uint32_t> out(size_t(w) * h);
+  std::vector<uint8_t> types(size_t(w) * h);
+  for (size_t i = 0; i < types.size(); ++i) types[i] = uint8_t(pixel_type(f.epi.cache[i]));
+  const TypePlane plane{types.data(), w, h};
   const int threads = int(state.range(2));
   timed(state, f, [&] {
     run_rows(threads, h, [&](int y0, int y1) {
+      std::vector<uint8_t> scratch(size_t(w) + 4);
       for (int y = y0; y < y1; ++y) {
         uint32_t* row = &out[size_t(y) * w];
-        if (threads == 0 || y < y0 + 2) {
+        if (threads == 0) {
           for (int x = 0; x < w; ++x) row[x] = reach_full(f.epi, x, y);
-        } else {  // the tiled path: forward half + symmetry from the two rows above
-          for (int x = 0; x < w; ++x)
-            row[x] = reach_forward(f.epi, x, y) | reach_from_symmetry(row - w, row - 2 * w, x, w);
+        } else {  // the tiled path: empty windows skipped, symmetry from the two rows above
+          const bool reuse = y >= y0 + 2;
+          reach_row(plane, y, reuse ? row - w : nullptr, reuse ? row - 2 * w : nullptr, row, scratch.data());
         }
       }
     });

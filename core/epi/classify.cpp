@@ -36,7 +36,7 @@ CellKind classify_pixel(EpiImage& epi, const BoundaryMasks& masks, int x, int y)
   return c.kind;
 }
 
-ClassCounts classify_rows(EpiImage& epi, const BoundaryMasks& masks, int y0, int y1) {
+ClassCounts classify_rows(EpiImage& epi, const BoundaryMasks& masks, int y0, int y1, uint8_t* types) {
   ClassCounts counts;
   for (int y = y0; y < y1; ++y)
     for (int x = 0; x < epi.width; ++x) {
@@ -45,6 +45,7 @@ ClassCounts classify_rows(EpiImage& epi, const BoundaryMasks& masks, int y0, int
       counts.simple += kind == CellKind::simple;
       counts.complex += kind == CellKind::complex;
       const uint16_t e = epi.edge[epi.index(x, y)];
+      if (types) types[epi.index(x, y)] = uint8_t(pixel_type(epi.cache[epi.index(x, y)]));
       counts.samples += has_sample(e);
       counts.ambiguous += has_sample(e) && !usable_sample(e);
     }

@@ -18,7 +18,7 @@ struct ClassCounts {
 // cleared) of pixel (x, y). Returns the pixel's kind.
 CellKind classify_pixel(EpiImage& epi, const BoundaryMasks& masks, int x, int y);
 
-// Rows [y0, y1).
-ClassCounts classify_rows(EpiImage& epi, const BoundaryMasks& masks, int y0, int y1);
+// Rows [y0, y1); also writes each pixel's type into `types` (width x height) when given.
+ClassCounts classify_rows(EpiImage& epi, const BoundaryMasks& masks, int y0, int y1, uint8_t* types = nullptr);
 
 }  // namespace epi

@@ -67,7 +67,7 @@ int window_average(const EpiImage& epi, int x, int y, int r, float rgb[3]) {
 
 float interpolate_pixel(const EpiImage& epi, int x, int y, uint32_t reach, float rgb[3]) {
   const size_t centre = epi.index(x, y);
-  const bool complex = pixel_type(epi.cache[centre]) == kTypeComplex;
+  const bool complex = edge_code(epi.edge[centre]) == kComplexCode;  // (the cache plane may be in flight)
   float total;
   if (complex) {
     total = simple_estimate(epi, x, y, rgb);

@@ -46,15 +46,17 @@ const std::array<Step, 24>& steps() {
   return s;
 }
 
-template <bool kForwardOnly>
-uint32_t reach(const EpiImage& epi, int x, int y) {
+// type_at(px, py) is called for pixels inside the image only.
+template <bool kForwardOnly, typename TypeAt>
+uint32_t reach(TypeAt type_at, int width, int height, int x, int y) {
   const EpiTables& t = epi_tables();
   uint8_t types[25];
   int any = 0;
   for (int dy = -2; dy <= 2; ++dy)
     for (int dx = -2; dx <= 2; ++dx) {
       const int px = x + dx, py = y + dy;
-      const int type = epi.inside(px, py) ? pixel_type(epi.cache[epi.index(px, py)]) : kTypeComplex;
+      const bool inside = px >= 0 && py >= 0 && px < width && py < height;
+      const int type = inside ? type_at(px, py) : kTypeComplex;
       types[(dy + 2) * 5 + dx + 2] = uint8_t(type);
       any |= type;
     }
@@ -79,8 +81,18 @@ uint32_t reach(const EpiImage& epi, int x, int y) {
 
 }  // namespace
 
-uint32_t reach_full(const EpiImage& epi, int x, int y) { return reach<false>(epi, x, y); }
-uint32_t reach_forward(const EpiImage& epi, int x, int y) { return reach<true>(epi, x, y); }
+uint32_t reach_full(const EpiImage& epi, int x, int y) {
+  return reach<false>([&](int px, int py) { return pixel_type(epi.cache[epi.index(px, py)]); }, epi.width,
+                      epi.height, x, y);
+}
+uint32_t reach_full(TypePlane p, int x, int y) {
+  return reach<false>([p](int px, int py) { return int(p.types[size_t(py) * size_t(p.width) + size_t(px)]); }, p.width,
+                      p.height, x, y);
+}
+uint32_t reach_forward(TypePlane p, int x, int y) {
+  return reach<true>([p](int px, int py) { return int(p.types[size_t(py) * size_t(p.width) + size_t(px)]); }, p.width,
+                     p.height, x, y);
+}
 
 uint32_t reach_from_symmetry(const uint32_t* above1, const uint32_t* above2, int x, int width) {
   uint32_t result = 0;
@@ -94,6 +106,27 @@ uint32_t reach_from_symmetry(const uint32_t* above1, const uint32_t* above2, int
     }
   }
   return result;
+}
+
+void reach_row(TypePlane p, int y, const uint32_t* above1, const uint32_t* above2, uint32_t* out,
+               uint8_t* scratch) {
+  const int w = p.width;
+  // scratch[x + 2]: column x has a non-empty pixel (or one outside the image) in rows y-2..y+2.
+  const bool rows_inside = y >= 2 && y + 2 < p.height;
+  scratch[0] = scratch[1] = scratch[w + 2] = scratch[w + 3] = 1;
+  for (int x = 0; x < w; ++x) {
+    uint32_t any = rows_inside ? 0u : 1u;
+    for (int dy = -2; dy <= 2 && rows_inside; ++dy) any |= p.types[size_t(y + dy) * size_t(w) + size_t(x)];
+    scratch[x + 2] = uint8_t(any != 0);
+  }
+  int window = scratch[0] + scratch[1] + scratch[2] + scratch[3];  // columns x-2..x+1 for x = 0
+  for (int x = 0; x < w; ++x) {
+    window += scratch[x + 4];  // column x+2 enters
+    if (window == 0) out[x] = 0xffffffu;
+    else if (!above1) out[x] = reach_full(p, x, y);
+    else out[x] = reach_forward(p, x, y) | reach_from_symmetry(above1, above2, x, w);
+    window -= scratch[x];  // column x-2 leaves
+  }
 }
 
 }  // namespace epi

@@ -27,14 +27,30 @@ constexpr uint32_t kForwardBits = [] {
   return m;
 }();
 
-// All 24 offsets, computed directly (the oracle).
+// Pixel types, one byte per pixel (row-major, width x height), as classification wrote them
+// into the cache plane: a read-only copy, so that parallel bands can write reachability into
+// the cache plane while others read types.
+struct TypePlane {
+  const uint8_t* types;
+  int width, height;
+};
+
+// All 24 offsets, computed directly (the oracle). The EpiImage form reads the cache plane.
 uint32_t reach_full(const EpiImage& epi, int x, int y);
+uint32_t reach_full(TypePlane types, int x, int y);
 // The forward half and the two offsets to the left, (-1,0) and (-2,0); the rest of the mask
 // comes from symmetry (see reach_from_symmetry).
-uint32_t reach_forward(const EpiImage& epi, int x, int y);
+uint32_t reach_forward(TypePlane types, int x, int y);
 // Bits for offsets (dx, dy < 0) taken from the masks of the two rows above: bit (dx, dy) of
 // pixel p equals bit (-dx, -dy) of pixel p + (dx, dy). `above1`/`above2` are those rows' masks
 // (nullptr outside the image).
 uint32_t reach_from_symmetry(const uint32_t* above1, const uint32_t* above2, int x, int width);
+
+// One row of masks for the tiled reconstructor: windows of empty pixels take the fast result
+// directly (found with a sliding window over the row), the others reach_full (when above1 is
+// nullptr) or reach_forward + symmetry. Equal to reach_full pixel by pixel.
+// `scratch` needs width + 4 bytes.
+void reach_row(TypePlane types, int y, const uint32_t* above1, const uint32_t* above2, uint32_t* out,
+               uint8_t* scratch);
 
 }  // namespace epi

@@ -1,6 +1,7 @@
 #include "epi/reconstruct.h"
 
 #include <algorithm>
+#include <memory>
 #include <stdexcept>
 
 #include <tbb/blocked_range.h>
@@ -84,13 +85,16 @@ void reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const Reconstr
   const int band_rows = std::max(1, schedule.rows_per_band);
   const int bands = (h + band_rows - 1) / band_rows;
   std::vector<ClassCounts> band_counts(static_cast<size_t>(bands));
+  const std::unique_ptr<uint8_t[]> types(new uint8_t[size_t(w) * size_t(h)]);  // read-only in pass 2
+  const TypePlane type_plane{types.get(), w, h};
   tbb::task_arena arena(schedule.threads > 0 ? schedule.threads : tbb::task_arena::automatic);
 
   // Pass 1: classification (1x1 footprint), every band writes only its own rows.
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const tbb::blocked_range<int>& range) {
       for (int b = range.begin(); b != range.end(); ++b)
-        band_counts[size_t(b)] = classify_rows(epi, masks, b * band_rows, std::min(h, (b + 1) * band_rows));
+        band_counts[size_t(b)] =
+            classify_rows(epi, masks, b * band_rows, std::min(h, (b + 1) * band_rows), types.get());
     }, tbb::simple_partitioner());
   });
   for (const ClassCounts& c : band_counts) {
@@ -104,7 +108,8 @@ void reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const Reconstr
     tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const tbb::blocked_range<int>& range) {
       std::vector<uint32_t> reach_ring(size_t(w) * 4);
       std::vector<float> color_ring(size_t(w) * 3 * 4);
-      auto reach_row = [&](int y) { return &reach_ring[size_t(y & 3) * size_t(w)]; };
+      std::vector<uint8_t> scratch(size_t(w) + 4);
+      auto reach_row_ptr = [&](int y) { return &reach_ring[size_t(y & 3) * size_t(w)]; };
       auto color_row = [&](int y) { return &color_ring[size_t(y & 3) * size_t(w) * 3]; };
       for (int b = range.begin(); b != range.end(); ++b) {
         const int y0 = b * band_rows, y1 = std::min(h, y0 + band_rows);
@@ -115,17 +120,12 @@ void reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const Reconstr
           for (int x = 0; x < w; ++x) output_pixel(epi, masks, s, x, y, rows, r.image.at(x, y));
         };
         for (int y = first; y <= last; ++y) {
-          uint32_t* reach = reach_row(y);
+          uint32_t* reach = reach_row_ptr(y);
           const bool owned = y >= y0 && y < y1;
-          if (s.filter == Filter::epi) {
-            if (y < first + 2) {
-              for (int x = 0; x < w; ++x) reach[x] = reach_full(epi, x, y);
-            } else {  // the half towards earlier rows comes from their masks, by symmetry
-              const uint32_t* above1 = reach_row(y - 1);
-              const uint32_t* above2 = reach_row(y - 2);
-              for (int x = 0; x < w; ++x)
-                reach[x] = reach_forward(epi, x, y) | reach_from_symmetry(above1, above2, x, w);
-            }
+          if (s.filter == Filter::epi) {  // rows after the band's first two reuse the rows above
+            const bool reuse = y >= first + 2;
+            reach_row(type_plane, y, reuse ? reach_row_ptr(y - 1) : nullptr, reuse ? reach_row_ptr(y - 2) : nullptr, reach,
+                      scratch.data());
             if (owned)
               for (int x = 0; x < w; ++x) epi.cache[epi.index(x, y)] |= reach[x];
           }
