@@ -150,7 +150,7 @@ ControlMesh cage_of(const MeshInfo& mesh) {
   return cage;
 }
 
-SceneFile load(const std::string& name) {
+SceneFile read_scene(const std::string& name) {
   SceneFile file;
   file.name = name;
   const std::string path = std::string(EPI_SOURCE_DIR) + "/scenes/" + name + ".gltf";
@@ -237,18 +237,26 @@ SceneFile load(const std::string& name) {
   return file;
 }
 
+// Each file is read (and subdivided) once per test run.
+const SceneFile& load(const std::string& name) {
+  static std::map<std::string, SceneFile> cache;
+  auto it = cache.find(name);
+  if (it == cache.end()) it = cache.emplace(name, read_scene(name)).first;
+  return it->second;
+}
+
 const std::map<std::string, size_t> kTrianglesAfterSubdivision = {
     {"cornell_box", 36}, {"chains", 73730}, {"torus_capsule", 31748}, {"grid_dragon", 888028}, {"rooms", 12708}};
 
 class SceneFiles : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SceneFiles, TrianglesAfterSubdivision) {
-  const SceneFile file = load(GetParam());
+  const SceneFile& file = load(GetParam());
   EXPECT_EQ(file.triangles, kTrianglesAfterSubdivision.at(GetParam()));
 }
 
 TEST_P(SceneFiles, ClosedMeshesFaceOutward) {
-  const SceneFile file = load(GetParam());
+  const SceneFile& file = load(GetParam());
   for (const MeshInfo& mesh : file.meshes) {
     Mesh m;
     m.positions = mesh.positions;
@@ -264,7 +272,7 @@ TEST_P(SceneFiles, ClosedMeshesFaceOutward) {
 }
 
 TEST_P(SceneFiles, CamerasAndCameraPath) {
-  const SceneFile file = load(GetParam());
+  const SceneFile& file = load(GetParam());
   const json& doc = file.doc;
   ASSERT_GE(doc["cameras"].size(), 1u);
   EXPECT_EQ(doc["cameras"][0]["type"], "perspective");
@@ -294,7 +302,7 @@ TEST_P(SceneFiles, CamerasAndCameraPath) {
 }
 
 TEST_P(SceneFiles, MaterialsAndLights) {
-  const SceneFile file = load(GetParam());
+  const SceneFile& file = load(GetParam());
   const json& doc = file.doc;
   std::set<std::string> used;
   for (const json& e : doc.value("extensionsUsed", json::array())) used.insert(e.get<std::string>());
@@ -376,7 +384,7 @@ glm::vec3 centre(const std::vector<glm::vec3>& points) {
 }
 
 TEST(SceneGeometry, CornellBox) {
-  const SceneFile file = load("cornell_box");
+  const SceneFile& file = load("cornell_box");
   EXPECT_LT(facing(file, "ceiling_light").y, -0.99f);
   // Walls face into the box; the blocks stand on the floor.
   const glm::vec3 inside(0.278f, 0.274f, 0.28f);
@@ -396,7 +404,7 @@ TEST(SceneGeometry, CornellBox) {
 }
 
 TEST(SceneGeometry, ChainLinksDoNotTouch) {
-  const SceneFile file = load("chains");
+  const SceneFile& file = load("chains");
   EXPECT_GT(facing(file, "floor").y, 0.99f);
   std::vector<std::vector<glm::vec3>> links;
   for (const Instance& i : file.instances)
@@ -425,7 +433,7 @@ TEST(SceneGeometry, ChainLinksDoNotTouch) {
 }
 
 TEST(SceneGeometry, TorusTouchesCapsule) {
-  const SceneFile file = load("torus_capsule");
+  const SceneFile& file = load("torus_capsule");
   const std::vector<glm::vec3> capsule = file.world_positions(file.instance("capsule"));
   const std::vector<glm::vec3> torus = file.world_positions(file.instance("torus"));
   EXPECT_NEAR(min_y(capsule), 0.0f, 1e-6f);
@@ -451,7 +459,7 @@ TEST(SceneGeometry, TorusTouchesCapsule) {
 }
 
 TEST(SceneGeometry, GridAboveDragon) {
-  const SceneFile file = load("grid_dragon");
+  const SceneFile& file = load("grid_dragon");
   const Instance& dragon = file.instance("dragon");
   EXPECT_GE(file.meshes[size_t(dragon.mesh)].triangles.size(), 800000u);
   const std::vector<glm::vec3> body = file.world_positions(dragon);
@@ -462,7 +470,7 @@ TEST(SceneGeometry, GridAboveDragon) {
 }
 
 TEST(SceneGeometry, RoomsFurnitureStandsInside) {
-  const SceneFile file = load("rooms");
+  const SceneFile& file = load("rooms");
   EXPECT_LT(facing(file, "panel_a").y, -0.99f);
   EXPECT_LT(facing(file, "ceiling").y, -0.99f);
   EXPECT_GT(facing(file, "floor").y, 0.99f);
@@ -489,8 +497,12 @@ TEST(SceneGeometry, RoomsFurnitureStandsInside) {
     const glm::vec3 eye(path[k]["eye"][0].get<float>(), path[k]["eye"][1].get<float>(), path[k]["eye"][2].get<float>());
     EXPECT_GT(std::min(eye.x, eye.z), 0.5f) << "key " << k;
     EXPECT_LT(std::max(eye.x, eye.z), 7.0f) << "key " << k;
-    if (std::abs(eye.x - 4.0f) < 0.25f) EXPECT_TRUE(in_doorway(eye.z)) << "key " << k << " in the wall x = 4";
-    if (std::abs(eye.z - 4.0f) < 0.25f) EXPECT_TRUE(in_doorway(eye.x)) << "key " << k << " in the wall z = 4";
+    if (std::abs(eye.x - 4.0f) < 0.25f) {
+      EXPECT_TRUE(in_doorway(eye.z)) << "key " << k << " in the wall x = 4";
+    }
+    if (std::abs(eye.z - 4.0f) < 0.25f) {
+      EXPECT_TRUE(in_doorway(eye.x)) << "key " << k << " in the wall z = 4";
+    }
     EXPECT_LT(eye.y, 2.1f);  // below the door lintels
   }
 }
