@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <random>
 #include <string>
@@ -193,6 +194,34 @@ TEST(Subdivide, EulerCharacteristicPreserved) {
   EXPECT_EQ(euler_characteristic(subdivide(torus_cage(), SubdivisionScheme::catmull_clark, 3)), 0);
   EXPECT_EQ(euler_characteristic(subdivide(tetrahedron_cage(), SubdivisionScheme::loop, 4)), 2);
   EXPECT_EQ(euler_characteristic(subdivide(cube_cage(), SubdivisionScheme::catmull_clark, 0)), 2);
+}
+
+// Every interior edge is crossed in opposite directions by its two triangles.
+void expect_consistently_oriented(const SubdividedMesh& m) {
+  std::map<std::pair<uint32_t, uint32_t>, int> directed;
+  for (const glm::uvec3& t : m.triangles)
+    for (int i = 0; i < 3; ++i) ++directed[{t[i], t[(i + 1) % 3]}];
+  for (const auto& [edge, count] : directed) {
+    ASSERT_EQ(count, 1) << "edge " << edge.first << "-" << edge.second << " used twice in one direction";
+    ASSERT_TRUE(directed.count({edge.second, edge.first})) << "closed mesh has a border edge";
+  }
+}
+
+TEST(Subdivide, RandomlyPerturbedCagesKeepTopologyAndOrientation) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> jitter(-0.2f, 0.2f);
+  for (int trial = 0; trial < 12; ++trial) {
+    const int kind = trial % 3;  // cube, torus, tetrahedron (Loop)
+    const bool loop = kind == 2;
+    ControlMesh cage = kind == 0 ? cube_cage() : kind == 1 ? torus_cage(5 + trial % 4, 4 + trial % 3) : tetrahedron_cage();
+    for (glm::vec3& p : cage.positions) p += glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+    if (trial % 2) cage.creases.push_back({cage.face_indices[0], cage.face_indices[1], float(trial % 5) * 2.5f});
+    const int level = 1 + trial % 3;
+    const SubdividedMesh m = subdivide(cage, loop ? SubdivisionScheme::loop : SubdivisionScheme::catmull_clark, level);
+    expect_consistently_oriented(m);
+    EXPECT_EQ(euler_characteristic(m), kind == 1 ? 0 : 2) << "trial " << trial;
+    EXPECT_GT(signed_volume(m.positions, m.triangles), 0.0) << "trial " << trial;
+  }
 }
 
 TEST(Subdivide, OrientationAndNormalsPointOutward) {
