@@ -175,6 +175,17 @@ TEST(Subdivide, InfinitelySharpCreasesKeepTheCube) {
   EXPECT_NEAR(signed_volume(m.positions, m.triangles), 8.0, 1e-4);
 }
 
+TEST(Subdivide, CreaseVertexOrderDoesNotMatter) {
+  ControlMesh forward = cube_cage(), backward = cube_cage();
+  forward.creases = {{0, 1, 3.0f}, {1, 5, 10.0f}};
+  backward.creases = {{1, 0, 3.0f}, {5, 1, 10.0f}};
+  const SubdividedMesh a = subdivide(forward, SubdivisionScheme::catmull_clark, 3);
+  const SubdividedMesh b = subdivide(backward, SubdivisionScheme::catmull_clark, 3);
+  EXPECT_EQ(a.positions, b.positions);
+  const SubdividedMesh smooth = subdivide(cube_cage(), SubdivisionScheme::catmull_clark, 3);
+  EXPECT_NE(a.positions, smooth.positions);  // the creases did something
+}
+
 TEST(Subdivide, SemiSharpCreasesLieBetweenSmoothAndSharp) {
   ControlMesh cage = cube_cage();
   const SubdividedMesh smooth = subdivide(cage, SubdivisionScheme::catmull_clark, 3);
