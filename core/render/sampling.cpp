@@ -1,0 +1,137 @@
+#include "render/sampling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace epi::render {
+
+namespace {
+
+uint64_t splitmix64(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+float unit_float(uint64_t bits) { return float(bits >> 40) * (1.0f / float(1u << 24)); }  // [0, 1)
+
+}  // namespace
+
+std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, int height, size_t count) {
+  const size_t pixels = size_t(width) * size_t(height);
+  count = std::min(count, pixels);
+  std::vector<uint32_t> picked;
+  if (count == 0 || pixels == 0) return picked;
+  double total = 0.0;
+  for (float p : priority) total += std::max(0.0f, p);
+  const bool uniform = !(total > 0.0);
+  auto weight = [&](size_t i) { return uniform ? 1.0f : std::max(0.0f, priority[i]); };
+  double scale = double(count) / (uniform ? double(pixels) : total);
+
+  // Floyd-Steinberg over the scaled priority, serpentine rows, two rows of error. The value at
+  // the decision is kept: it ranks pixels when the count is settled. The error leaving the image
+  // makes the count drift a little, so the scale is corrected and the dither rerun (at most twice).
+  std::vector<float> err_row(size_t(width) + 2), err_next(size_t(width) + 2), decision(pixels);
+  std::vector<uint8_t> chosen(pixels);
+  size_t chosen_count = 0;
+  for (int pass = 0; pass < 3; ++pass) {
+    std::fill(err_row.begin(), err_row.end(), 0.0f);
+    std::fill(chosen.begin(), chosen.end(), uint8_t(0));
+    chosen_count = 0;
+    for (int y = 0; y < height; ++y) {
+      const bool forward = (y & 1) == 0;
+      const int dir = forward ? 1 : -1;
+      std::fill(err_next.begin(), err_next.end(), 0.0f);
+      for (int k = 0; k < width; ++k) {
+        const int x = forward ? k : width - 1 - k;
+        const size_t i = size_t(y) * size_t(width) + size_t(x);
+        const float value = float(double(weight(i)) * scale) + err_row[size_t(x + 1)];
+        decision[i] = value;
+        const bool pick = value >= 0.5f && weight(i) > 0.0f;
+        const float e = pick ? value - 1.0f : value;
+        chosen[i] = pick, chosen_count += pick;
+        err_row[size_t(x + 1 + dir)] += e * (7.0f / 16.0f);
+        err_next[size_t(x + 1 - dir)] += e * (3.0f / 16.0f);
+        err_next[size_t(x + 1)] += e * (5.0f / 16.0f);
+        err_next[size_t(x + 1 + dir)] += e * (1.0f / 16.0f);
+      }
+      std::swap(err_row, err_next);
+    }
+    const double drift = std::abs(double(chosen_count) - double(count));
+    if (drift <= 0.01 * double(count) + 1.0 || chosen_count == 0) break;
+    scale *= double(count) / double(chosen_count);
+  }
+  for (size_t i = 0; i < pixels; ++i)
+    if (chosen[i]) picked.push_back(uint32_t(i));
+
+  // Settle the count by the decision values: positive priority first, then the value nearest the
+  // threshold from the other side; ties by index.
+  auto before = [&](uint32_t a, uint32_t b) {
+    const bool pa = weight(a) > 0.0f, pb = weight(b) > 0.0f;
+    if (pa != pb) return pa;
+    if (decision[a] != decision[b]) return decision[a] > decision[b];
+    return a < b;
+  };
+  if (picked.size() > count) {
+    std::sort(picked.begin(), picked.end(), before);
+    picked.resize(count);
+  } else if (picked.size() < count) {
+    std::vector<uint32_t> rest;
+    rest.reserve(pixels - picked.size());
+    for (size_t i = 0; i < pixels; ++i)
+      if (!chosen[i]) rest.push_back(uint32_t(i));
+    const size_t need = count - picked.size();
+    std::partial_sort(rest.begin(), rest.begin() + ptrdiff_t(need), rest.end(), before);
+    picked.insert(picked.end(), rest.begin(), rest.begin() + ptrdiff_t(need));
+  }
+  std::sort(picked.begin(), picked.end());
+  return picked;
+}
+
+void make_requests(std::span<const uint32_t> pixels, int width, uint64_t seed, uint64_t frame, uint32_t first_id,
+                   std::vector<ShadeRequest>& out) {
+  const uint64_t stream = splitmix64(seed ^ splitmix64(frame + 0x5851f42d4c957f2dull));
+  for (size_t k = 0; k < pixels.size(); ++k) {
+    const uint32_t p = pixels[k];
+    const uint64_t bits = splitmix64(stream ^ p);
+    ShadeRequest r;
+    r.id = first_id + uint32_t(k);
+    r.x = float(p % uint32_t(width)) + unit_float(bits);
+    r.y = float(p / uint32_t(width)) + unit_float(splitmix64(bits));
+    out.push_back(r);
+  }
+}
+
+Camera extrapolate_camera(const Camera& previous, const Camera& current, float ahead) {
+  Camera c = current;
+  c.eye = current.eye + ahead * (current.eye - previous.eye);
+  c.target = current.target + ahead * (current.target - previous.target);
+  if (!(glm::length(c.target - c.eye) > 1e-6f)) c = current;  // degenerate: no prediction
+  return c;
+}
+
+std::vector<uint8_t> predicted_occupancy(const PointCache& cache, const ViewFrame& frame,
+                                         std::span<const glm::mat4> object_to_world, int stride, int phase, int splat) {
+  const int w = frame.view().width, h = frame.view().height;
+  std::vector<uint8_t> occupied(size_t(w) * size_t(h), 0);
+  const auto& points = cache.points();
+  stride = std::max(1, stride);
+  const float znear = std::max(frame.view().camera.znear, 0.0f);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const CachePoint& p = points[i];
+    if (!p.valid || splitmix64(i) % uint64_t(stride) != uint64_t(std::max(0, phase) % stride)) continue;
+    const Projection proj = frame.project(cache.world_position(p, frame, object_to_world));
+    if (!(proj.depth > znear)) continue;
+    const float fx = std::floor(proj.pixel.x - 0.5f * float(splat) + 0.5f);
+    const float fy = std::floor(proj.pixel.y - 0.5f * float(splat) + 0.5f);
+    if (!(fx > -float(splat) && fy > -float(splat) && fx < float(w) && fy < float(h))) continue;
+    const int x0 = int(fx), y0 = int(fy);
+    for (int y = std::max(0, y0); y < std::min(h, y0 + splat); ++y)
+      for (int x = std::max(0, x0); x < std::min(w, x0 + splat); ++x) occupied[size_t(y) * size_t(w) + size_t(x)] = 1;
+  }
+  return occupied;
+}
+
+}  // namespace epi::render

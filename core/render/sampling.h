@@ -1,0 +1,37 @@
+// Prioritized sampling (docs/render.md, "Sampling"): the priority image (interpolation weight and
+// point age, from core/epi) turned into shading requests by error-diffusion dithering, a fixed
+// budget per frame, and predictive sampling: the camera extrapolated a few frames ahead and a
+// cheap projection of the cloud finding the gaps about to open.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "render/point_cache.h"
+#include "shade/shader.h"
+#include "shade/view.h"
+
+namespace epi::render {
+
+// Exactly min(count, width * height) distinct pixel indices, spread in proportion to priority
+// by Floyd-Steinberg error diffusion (serpentine rows). Pixels of zero priority are taken only
+// when every positive one is; zero priority everywhere counts as uniform. Deterministic.
+std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, int height, size_t count);
+
+// One request per pixel, jittered uniformly inside it by a hash of (seed, frame, pixel); ids
+// count up from first_id.
+void make_requests(std::span<const uint32_t> pixels, int width, uint64_t seed, uint64_t frame, uint32_t first_id,
+                   std::vector<ShadeRequest>& out);
+
+// The camera `ahead` frames later if it keeps moving as from `previous` to `current` (eye and
+// target extrapolated linearly, up and field of view kept).
+Camera extrapolate_camera(const Camera& previous, const Camera& current, float ahead);
+
+// Predictive occupancy: a pseudo-random 1/stride of the valid points (subset `phase`, chosen by a
+// hash of the slot, so structure in the cloud's order does not show) projected into `frame` as
+// splat x splat squares; one byte per pixel, 1 where occupied. The gaps are the zeros.
+std::vector<uint8_t> predicted_occupancy(const PointCache& cache, const ViewFrame& frame,
+                                         std::span<const glm::mat4> object_to_world, int stride, int phase, int splat);
+
+}  // namespace epi::render

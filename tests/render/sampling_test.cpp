@@ -1,0 +1,143 @@
+// Prioritized sampling: the dither's count, spread and proportionality; jittered requests;
+// camera extrapolation; predictive occupancy against a moving camera over a sampled plane.
+#include <algorithm>
+#include <random>
+#include <set>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "render/sampling.h"
+
+namespace epi::render {
+namespace {
+
+TEST(Dither, ExactCountOfDistinctPixelsForManyBudgetsAndRandomImages) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int trial = 0; trial < 40; ++trial) {
+    const int w = 1 + int(rng() % 70), h = 1 + int(rng() % 50);
+    std::vector<float> priority(size_t(w * h));
+    const int shape = trial % 4;  // random, sparse spikes, all zero, huge range
+    for (float& p : priority) {
+      const float u = unit(rng);
+      p = shape == 0 ? u : shape == 1 ? (u < 0.05f ? 16.0f : 0.0f) : shape == 2 ? 0.0f : std::pow(10.0f, 6.0f * u - 3.0f);
+    }
+    for (size_t count : {size_t(0), size_t(1), size_t(w * h / 50), size_t(w * h / 3), size_t(w * h), size_t(w * h + 7)}) {
+      const std::vector<uint32_t> picked = dither_pixels(priority, w, h, count);
+      ASSERT_EQ(picked.size(), std::min(count, size_t(w * h)));
+      EXPECT_TRUE(std::is_sorted(picked.begin(), picked.end()));
+      EXPECT_EQ(std::set<uint32_t>(picked.begin(), picked.end()).size(), picked.size());
+      for (uint32_t p : picked) EXPECT_LT(p, uint32_t(w * h));
+      const size_t positive = size_t(std::count_if(priority.begin(), priority.end(), [](float p) { return p > 0.0f; }));
+      if (shape != 2 && count <= positive) {  // zero priority only once every positive pixel is taken
+        for (uint32_t p : picked) EXPECT_GT(priority[p], 0.0f);
+      }
+      EXPECT_EQ(picked, dither_pixels(priority, w, h, count));  // deterministic
+    }
+  }
+}
+
+TEST(Dither, UniformPriorityIsSpreadEvenly) {
+  const int w = 128, h = 128;
+  const std::vector<float> priority(size_t(w * h), 1.0f);
+  const std::vector<uint32_t> picked = dither_pixels(priority, w, h, size_t(w * h / 16));
+  std::vector<int> blocks(16 * 16, 0);  // 8x8 blocks: 4 picks each expected
+  for (uint32_t p : picked) ++blocks[size_t((p / w / 8) * 16 + (p % w) / 8)];
+  int near_four = 0;  // error diffusion starts up in the first rows, so allow a few outliers
+  for (int b : blocks) {
+    EXPECT_GE(b, 1);
+    EXPECT_LE(b, 7);
+    near_four += b >= 3 && b <= 5;
+  }
+  EXPECT_GE(near_four, 240);
+}
+
+TEST(Dither, PicksInProportionToPriority) {
+  const int w = 96, h = 64;
+  std::vector<float> priority(size_t(w * h));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) priority[size_t(y * w + x)] = x < w / 2 ? 1.0f : 3.0f;
+  const std::vector<uint32_t> picked = dither_pixels(priority, w, h, 1500);  // 1/4 density (sparser ones drift more at the edges)
+  size_t left = 0, right = 0;
+  for (uint32_t p : picked) (p % w < uint32_t(w / 2) ? left : right)++;
+  EXPECT_NEAR(double(right) / double(left), 3.0, 0.25);
+}
+
+TEST(Requests, JitteredInsideTheirPixelAndReproducible) {
+  const std::vector<uint32_t> pixels = {0, 5, 17, 99};
+  std::vector<ShadeRequest> a, b, c;
+  make_requests(pixels, 10, 42, 3, 100, a);
+  make_requests(pixels, 10, 42, 3, 100, b);
+  make_requests(pixels, 10, 42, 4, 100, c);
+  ASSERT_EQ(a.size(), 4u);
+  for (size_t k = 0; k < a.size(); ++k) {
+    EXPECT_EQ(a[k].id, 100 + k);
+    EXPECT_EQ(int(a[k].x), int(pixels[k] % 10));
+    EXPECT_EQ(int(a[k].y), int(pixels[k] / 10));
+    EXPECT_EQ(a[k].x, b[k].x);
+    EXPECT_EQ(a[k].y, b[k].y);
+    EXPECT_NE(a[k].x, c[k].x);  // another frame, another jitter
+  }
+}
+
+TEST(Predict, CameraExtrapolatesLinearly) {
+  Camera a, b;
+  a.eye = {0, 0, 5}, a.target = {0, 0, 0};
+  b.eye = {1, 0, 5}, b.target = {0.5f, 0, 0};
+  const Camera c = extrapolate_camera(a, b, 4.0f);
+  EXPECT_FLOAT_EQ(c.eye.x, 5.0f);
+  EXPECT_FLOAT_EQ(c.target.x, 2.5f);
+  const Camera still = extrapolate_camera(b, b, 4.0f);
+  EXPECT_EQ(still.eye, b.eye);
+}
+
+// A plane sampled at every pixel from the current camera; the camera slides right. The predicted
+// view's gaps are exactly the strip at its right edge that the current view never saw.
+TEST(Predict, OccupancyFindsTheGapsAboutToOpen) {
+  const int w = 64, h = 48;
+  auto view_at = [&](float x) {
+    View v;
+    v.camera.eye = {x, 0, 10}, v.camera.target = {x, 0, 0}, v.camera.yfov_degrees = 40.0f;
+    v.width = w, v.height = h;
+    return v;
+  };
+  const ViewFrame now(view_at(0.0f));
+  PointCache cache(w, h);
+  ShadeBatch batch;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const Ray ray = now.ray(x + 0.5f, y + 0.5f);
+      ShadeResult r;
+      r.x = x + 0.5f, r.y = y + 0.5f, r.hit = true, r.object = 0;
+      r.position = ray.origin + (-ray.origin.z / ray.direction.z) * ray.direction;
+      batch.results.push_back(r);
+    }
+  const std::vector<glm::mat4> transforms(1, glm::mat4(1.0f));
+  cache.insert(now, batch, transforms);
+  const Camera predicted = extrapolate_camera(view_at(-0.25f).camera, now.view().camera, 4.0f);  // 1 unit right
+  View pv = now.view();
+  pv.camera = predicted;
+  const ViewFrame ahead(pv);
+  // One world unit at depth 10 with a 40 degree fov over 48 rows: pixels per unit.
+  const float pixels_per_unit = float(h) / (2.0f * 10.0f * std::tan(glm::radians(20.0f)));
+  const int shift = int(std::round(pixels_per_unit));
+  // Half the points as 3x3 splats: a pixel of the seen part is a false gap only when none of
+  // the ~9 points around it is in the half (~0.2%).
+  for (int phase = 0; phase < 2; ++phase) {
+    const std::vector<uint8_t> occupied = predicted_occupancy(cache, ahead, transforms, 2, phase, 3);
+    int seen = 0, false_gaps = 0;
+    for (int y = 1; y < h - 1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const bool gap = !occupied[size_t(y * w + x)];
+        if (x < w - shift - 1) ++seen, false_gaps += gap;
+        if (x > w - shift + 1) {
+          EXPECT_TRUE(gap) << x << "," << y;
+        }
+      }
+    EXPECT_LT(false_gaps, seen / 100) << "phase " << phase;
+  }
+}
+
+}  // namespace
+}  // namespace epi::render
