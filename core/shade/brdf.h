@@ -45,11 +45,19 @@ inline glm::vec3 schlick(const glm::vec3& f0, float cos_theta) {
   return f0 + (glm::vec3(1.0f) - f0) * m5;
 }
 
-// f(wi, wo); zero when either direction is below the shading hemisphere.
-inline glm::vec3 eval_brdf(const BrdfParams& p, const glm::vec3& n, const glm::vec3& wo, const glm::vec3& wi) {
+// The two lobes of f(wi, wo); zero when either direction is below the shading hemisphere.
+struct BrdfValue {
+  glm::vec3 diffuse{0.0f}, specular{0.0f};
+  glm::vec3 sum() const { return diffuse + specular; }
+};
+inline BrdfValue eval_brdf_lobes(const BrdfParams& p, const glm::vec3& n, const glm::vec3& wo, const glm::vec3& wi) {
+  BrdfValue value;
   float n_dot_l = glm::dot(n, wi), n_dot_v = glm::dot(n, wo);
-  if (n_dot_l <= 0.0f || n_dot_v <= 0.0f) return glm::vec3(0.0f);
-  if (!p.specular) return p.diffuse * float(1.0 / M_PI);
+  if (n_dot_l <= 0.0f || n_dot_v <= 0.0f) return value;
+  if (!p.specular) {
+    value.diffuse = p.diffuse * float(1.0 / M_PI);
+    return value;
+  }
   glm::vec3 h = glm::normalize(wi + wo);
   float v_dot_h = std::max(glm::dot(wo, h), 0.0f);
   glm::vec3 f = schlick(p.f0, v_dot_h);
@@ -58,7 +66,14 @@ inline glm::vec3 eval_brdf(const BrdfParams& p, const glm::vec3& n, const glm::v
   // The diffuse lobe gets what the specular interface transmits, in and out (reciprocal,
   // and unlike glTF's (1 - F(v.h)) weighting it does not create energy at grazing angles).
   glm::vec3 transmitted = (glm::vec3(1.0f) - schlick(p.f0, n_dot_l)) * (glm::vec3(1.0f) - schlick(p.f0, n_dot_v));
-  return transmitted * p.diffuse * float(1.0 / M_PI) + f * (d * g / (4.0f * n_dot_l * n_dot_v));
+  value.diffuse = transmitted * p.diffuse * float(1.0 / M_PI);
+  value.specular = f * (d * g / (4.0f * n_dot_l * n_dot_v));
+  return value;
+}
+
+// f(wi, wo).
+inline glm::vec3 eval_brdf(const BrdfParams& p, const glm::vec3& n, const glm::vec3& wo, const glm::vec3& wi) {
+  return eval_brdf_lobes(p, n, wo, wi).sum();
 }
 
 // A half vector from D(h) * (n.h), in the local frame (z = normal); pdf(h) = D(h) * (n.h).

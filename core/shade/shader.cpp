@@ -33,9 +33,11 @@ size_t pick(const std::vector<float>& cdf, float& u) {
 }
 float probability(const std::vector<float>& cdf, size_t i) { return cdf[i] - (i == 0 ? 0.0f : cdf[i - 1]); }
 
-// How many light and BRDF samples look for the same light (multiple importance sampling).
+// How many light and BRDF samples look for the same light (multiple importance sampling);
+// specular_only: the BRDF samples come from the GGX lobe alone (glossy mode).
 struct MisCounts {
   int light = 0, brdf = 0;
+  bool specular_only = false;
 };
 // The power heuristic (Veach): weight of a sample whose strategy has density a, against b.
 float power_heuristic(float a, float b) {
@@ -203,20 +205,25 @@ struct Shader::Tracer {
     float cos_light = -glm::dot(cross / double_area, wi);  // emission leaves the front face
     float cos_s = glm::dot(s.shading_normal, wi);
     if (cos_light <= 0.0f || cos_s <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f) return glm::vec3(0.0f);
-    glm::vec3 f = eval_brdf(brdf, s.shading_normal, s.wo, wi);
+    BrdfValue lobes = eval_brdf_lobes(brdf, s.shading_normal, s.wo, wi);
     const glm::vec3& emission = scene.scene().materials[light.triangle_materials[k]].emission;
-    if (max_component(f) <= 0.0f || max_component(emission) <= 0.0f) return glm::vec3(0.0f);
+    if (max_component(lobes.sum()) <= 0.0f || max_component(emission) <= 0.0f) return glm::vec3(0.0f);
     float pdf_area = probability(scene.area_light_cdf(), l) * probability(light.triangle_cdf, k) / (0.5f * double_area);
     float light_offset = settings.ray_offset * std::max(1.0f, max_abs(point));
     Ray shadow = spawn_to(s, point, wi, light_offset);
     uint32_t number = uint32_t(scene.scene().punctual_lights.size() + l);
     if (!visible(s, shadow, number, light.object)) return glm::vec3(0.0f);
-    float weight = 1.0f;
+    glm::vec3 f = lobes.sum();
     if (mis.brdf > 0) {
       float pdf_light = pdf_area * d2 / cos_light;  // solid angle
-      weight = power_heuristic(float(mis.light) * pdf_light, float(mis.brdf) * brdf_pdf(s, brdf, wi));
+      if (mis.specular_only) {
+        float pdf_glossy = ggx_reflection_pdf(s.shading_normal, s.wo, wi, brdf.alpha);
+        f = lobes.diffuse + lobes.specular * power_heuristic(float(mis.light) * pdf_light, float(mis.brdf) * pdf_glossy);
+      } else {
+        f *= power_heuristic(float(mis.light) * pdf_light, float(mis.brdf) * brdf_pdf(s, brdf, wi));
+      }
     }
-    return f * emission * (weight * cos_s * cos_light / (d2 * pdf_area));
+    return f * emission * (cos_s * cos_light / (d2 * pdf_area));
   }
 
   // Solid-angle density with which one area-light sample from s picks the point hit on an
@@ -241,7 +248,7 @@ struct Shader::Tracer {
   // Direct lighting: every punctual light once, area lights with n stratified samples from
   // one stream each (primary hits), or from the given stream (deeper hits). brdf_samples > 0:
   // that many BRDF samples will also look for the lights from s (multiple importance sampling).
-  glm::vec3 direct(const Surface& s, int n, uint64_t key, Rng* stream, int brdf_samples = 0) {
+  glm::vec3 direct(const Surface& s, int n, uint64_t key, Rng* stream, int brdf_samples = 0, bool specular_only = false) {
     BrdfParams brdf = BrdfParams::from(*s.material, settings.specular);
     glm::vec3 sum(0.0f);
     for (uint32_t i = 0; i < scene.scene().punctual_lights.size(); ++i) sum += punctual(s, brdf, i);
@@ -251,7 +258,7 @@ struct Shader::Tracer {
         Rng own = stream ? Rng(0) : Rng(key, kStreamArea, uint64_t(j));
         Rng& rng = stream ? *stream : own;
         glm::vec2 u = stratified(j, n, rng);
-        area += area_sample(s, brdf, rng.uniform(), u, MisCounts{n, brdf_samples});
+        area += area_sample(s, brdf, rng.uniform(), u, MisCounts{n, brdf_samples, specular_only});
       }
       sum += area / float(n);
     }
@@ -260,7 +267,8 @@ struct Shader::Tracer {
 
   glm::vec3 emitted(const Surface& s) const { return s.front_face ? s.material->emission : glm::vec3(0.0f); }
 
-  // Glossy reflection: n rays from the GGX lobe, each reflected hit lit directly.
+  // Glossy reflection: n rays from the GGX lobe, each reflected hit lit directly; a reflected
+  // emitter adds its emission, MIS-weighted against the primary hit's light samples.
   glm::vec3 glossy(const Surface& s, uint64_t key) {
     if (!settings.specular || settings.glossy_samples <= 0) return glm::vec3(0.0f);
     BrdfParams brdf = BrdfParams::from(*s.material, true);
@@ -285,6 +293,12 @@ struct Shader::Tracer {
       if (!hit.hit) continue;
       Surface reflected = surface(hit, ray);
       sum += weight * direct(reflected, settings.glossy_light_samples, 0, &rng);
+      if (max_component(emitted(reflected)) > 0.0f) {
+        float pdf_glossy = ggx_reflection_pdf(n, s.wo, wi, brdf.alpha);
+        float pdf_light = has_area_lights() ? light_pdf(s, reflected) : 0.0f;
+        sum += weight * emitted(reflected) *
+               power_heuristic(float(settings.glossy_samples) * pdf_glossy, float(settings.area_light_samples) * pdf_light);
+      }
     }
     return sum / float(settings.glossy_samples);
   }
@@ -400,7 +414,10 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
   if (hit.hit) {
     Surface s = tracer.surface(hit, ray);
     uint64_t key = request_key(settings_.seed, request.x, request.y);
-    glm::vec3 color = tracer.emitted(s) + tracer.direct(s, settings_.area_light_samples, key, nullptr);
+    // Glossy mode: the GGX rays also find the area lights; MIS shares the specular lobe.
+    const bool glossy_rays = settings_.kind == ShaderKind::glossy && settings_.specular && settings_.glossy_samples > 0;
+    glm::vec3 color = tracer.emitted(s) + tracer.direct(s, settings_.area_light_samples, key, nullptr,
+                                                        glossy_rays ? settings_.glossy_samples : 0, true);
     tracer.triples = nullptr;  // triples come from the primary hit's shadow rays only
     if (settings_.kind == ShaderKind::glossy) color += tracer.glossy(s, key);
     if (settings_.kind == ShaderKind::gi) color += tracer.indirect(s, key);
