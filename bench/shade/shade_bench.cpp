@@ -5,6 +5,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include "shade/render_image.h"
 #include "shade/sampling.h"
@@ -38,6 +39,14 @@ BenchScene& bench_scene() {
   return s;
 }
 
+// Runs f with `threads` TBB threads (0: all cores). One thread makes the CPU-time column the
+// whole cost, which stays meaningful when other jobs share the machine.
+template <class F>
+void with_threads(int threads, F&& f) {
+  tbb::task_arena arena(threads > 0 ? threads : int(tbb::task_arena::automatic));
+  arena.execute(f);
+}
+
 void set_rate(benchmark::State& state, uint64_t rays) {
   state.counters["Mrays/s"] = benchmark::Counter(double(rays) * 1e-6, benchmark::Counter::kIsRate);
   state.counters["triangles"] = double(bench_scene().scene.triangle_count());
@@ -48,7 +57,7 @@ void BM_PrimaryRays(benchmark::State& state) {
   BenchScene& s = bench_scene();
   ViewFrame frame(s.view);
   uint64_t rays = 0;
-  for (auto _ : state) {
+  for (auto _ : state) with_threads(int(state.range(0)), [&] {
     size_t hits = tbb::parallel_reduce(
         tbb::blocked_range<int>(0, s.view.height), size_t(0),
         [&](const tbb::blocked_range<int>& rows, size_t count) {
@@ -60,17 +69,17 @@ void BM_PrimaryRays(benchmark::State& state) {
         std::plus<size_t>());
     benchmark::DoNotOptimize(hits);
     rays += uint64_t(s.view.width) * uint64_t(s.view.height);
-  }
+  });
   set_rate(state, rays);
 }
-BENCHMARK(BM_PrimaryRays)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PrimaryRays)->ArgName("threads")->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Camera rays in 4x4-pixel packets (rtcIntersect16), in parallel over rows of packets.
 void BM_PrimaryRaysPacket16(benchmark::State& state) {
   BenchScene& s = bench_scene();
   ViewFrame frame(s.view);
   uint64_t rays = 0;
-  for (auto _ : state) {
+  for (auto _ : state) with_threads(int(state.range(0)), [&] {
     size_t hits = tbb::parallel_reduce(
         tbb::blocked_range<int>(0, s.view.height / 4), size_t(0),
         [&](const tbb::blocked_range<int>& rows, size_t count) {
@@ -89,13 +98,13 @@ void BM_PrimaryRaysPacket16(benchmark::State& state) {
         std::plus<size_t>());
     benchmark::DoNotOptimize(hits);
     rays += uint64_t(s.view.width) * uint64_t(s.view.height);
-  }
+  });
   set_rate(state, rays);
 }
-BENCHMARK(BM_PrimaryRaysPacket16)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PrimaryRaysPacket16)->ArgName("threads")->Arg(1)->Arg(0)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The render cache's request pattern: 1% of the pixels at random positions, direct lighting
-// (state.range(0) area-light samples per hit).
+// (state.range(0) area-light samples per hit; state.range(1) threads, 0: all).
 void BM_DirectShading1Percent(benchmark::State& state) {
   BenchScene& s = bench_scene();
   ShaderSettings settings;
@@ -107,18 +116,26 @@ void BM_DirectShading1Percent(benchmark::State& state) {
     requests.push_back({i, rng.uniform() * float(s.view.width), rng.uniform() * float(s.view.height)});
   uint64_t rays = 0;
   ShadeBatch batch;
-  for (auto _ : state) {
+  for (auto _ : state) with_threads(int(state.range(1)), [&] {
     batch.clear();
     shader.shade(s.view, requests, batch);
     rays += batch.rays;
-  }
+  });
   set_rate(state, rays);
   state.counters["requests/s"] = benchmark::Counter(double(requests.size()) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
-BENCHMARK(BM_DirectShading1Percent)->Arg(16)->Arg(64)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DirectShading1Percent)
+    ->ArgNames({"samples", "threads"})
+    ->Args({16, 1})
+    ->Args({16, 0})
+    ->Args({64, 1})
+    ->Args({64, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // A whole 512x512 frame at one sample per pixel: arg 0 = direct lighting (16 area samples),
-// arg 1 = the baseline path of the platform notes (camera, shadow, one bounce, shadow).
+// arg 1 = the baseline path of the platform notes (camera, shadow, one bounce, shadow);
+// second argument: threads (0: all).
 void BM_RaytraceFrame(benchmark::State& state) {
   BenchScene& s = bench_scene();
   ShaderSettings settings;
@@ -131,15 +148,22 @@ void BM_RaytraceFrame(benchmark::State& state) {
   }
   Shader shader(*s.rays, settings);
   uint64_t rays = 0;
-  for (auto _ : state) {
+  for (auto _ : state) with_threads(int(state.range(1)), [&] {
     RenderStats stats;
     RgbImage image = render_image(shader, s.view, 1, {}, &stats);
     benchmark::DoNotOptimize(image.pixels.data());
     rays += stats.rays;
-  }
+  });
   set_rate(state, rays);
 }
-BENCHMARK(BM_RaytraceFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RaytraceFrame)
+    ->ArgNames({"path", "threads"})
+    ->Args({0, 1})
+    ->Args({0, 0})
+    ->Args({1, 1})
+    ->Args({1, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace epi
