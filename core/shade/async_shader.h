@@ -26,7 +26,8 @@ class AsyncShader {
   AsyncShader(const AsyncShader&) = delete;
   AsyncShader& operator=(const AsyncShader&) = delete;
 
-  // Queues requests made for view; returns at once.
+  // Queues requests made for view; returns at once. Throws std::invalid_argument for an
+  // unusable view (see ViewFrame).
   void submit(const View& view, std::vector<ShadeRequest> requests);
   // Appends every finished result (with its triples) to out; returns how many. Never waits
   // for shading: holds a lock only to swap a queue.

@@ -408,6 +408,7 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
   result.x = request.x;
   result.y = request.y;
   result.triple_begin = uint32_t(triples.size());
+  if (!std::isfinite(request.x) || !std::isfinite(request.y)) return result;  // no ray: a miss
   Tracer tracer{scene_, settings_, &triples, triples.size(), 0};
   Ray ray = frame.ray(request.x, request.y);
   RayHit hit = tracer.trace(ray);

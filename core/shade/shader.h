@@ -33,7 +33,7 @@ struct ShaderSettings {
 
 struct ShadeRequest {
   uint32_t id = 0;
-  float x = 0.0f, y = 0.0f;  // pixel position with sub-pixel offset (see view.h)
+  float x = 0.0f, y = 0.0f;  // pixel position with sub-pixel offset (see view.h); may lie outside the image; non-finite: a miss
 };
 
 // A light whose shadow ray from the receiver was blocked by the blocker object.

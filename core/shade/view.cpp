@@ -1,5 +1,6 @@
 #include "shade/view.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -35,14 +36,17 @@ ViewFrame::ViewFrame(const View& view) : view_(view) {
 }
 
 Ray ViewFrame::ray(float x, float y) const {
-  float sx = (2.0f * x / float(view_.width) - 1.0f) * half_width_;
-  float sy = (1.0f - 2.0f * y / float(view_.height)) * half_height_;
+  float sx = (x / float(view_.width) * 2.0f - 1.0f) * half_width_;
+  float sy = (1.0f - y / float(view_.height) * 2.0f) * half_height_;
   glm::vec3 d = forward_ + sx * right_ + sy * up_;
-  float length = glm::length(d);
+  // Normalise without overflow for far-off pixel positions: scale by the largest component first.
+  float scale = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+  glm::vec3 e = d / scale;
+  float length = glm::length(e);
   Ray r;
   r.origin = view_.camera.eye;
-  r.direction = d / length;
-  r.tnear = std::max(view_.camera.znear, 0.0f) * length;  // depth znear along forward
+  r.direction = e / length;
+  r.tnear = std::max(view_.camera.znear, 0.0f) * (scale * length);  // depth znear along forward (|d| = 1 / cos)
   return r;
 }
 

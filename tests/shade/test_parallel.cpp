@@ -3,6 +3,7 @@
 
 #include <cstring>
 #include <future>
+#include <limits>
 
 #include <tbb/task_arena.h>
 
@@ -89,6 +90,44 @@ TEST_P(Determinism, SameBitsForAnyThreadCountAndBatchSplit) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Kinds, Determinism, ::testing::Values(ShaderKind::direct, ShaderKind::glossy, ShaderKind::gi));
+
+TEST(Robustness, ColoursAreFiniteAndNonNegativeEverywhere) {
+  Scene scene = busy_scene();
+  RayScene rays(scene);
+  std::vector<ShadeRequest> requests = scattered_requests(300);
+  const float inf = std::numeric_limits<float>::infinity();
+  for (glm::vec2 p : {glm::vec2(0, 0), glm::vec2(96, 64), glm::vec2(-1e6f, 3), glm::vec2(1e30f, -1e30f),
+                      glm::vec2(std::nanf(""), 1), glm::vec2(inf, 0), glm::vec2(1e-30f, 1e-30f)})
+    requests.push_back({uint32_t(requests.size()), p.x, p.y});
+  for (ShaderKind kind : {ShaderKind::direct, ShaderKind::glossy, ShaderKind::gi}) {
+    ShaderSettings settings;
+    settings.kind = kind;
+    settings.area_light_samples = 4;
+    settings.glossy_samples = 4;
+    settings.gi_paths = 4;
+    Shader shader(rays, settings);
+    ShadeBatch batch;
+    shader.shade(kView, requests, batch);
+    for (const ShadeResult& r : batch.results) {
+      for (int c = 0; c < 3; ++c) {
+        ASSERT_TRUE(std::isfinite(r.color[c])) << r.id;
+        ASSERT_GE(r.color[c], 0.0f) << r.id;
+      }
+      if (r.hit) {
+        ASSERT_NEAR(glm::length(r.normal), 1.0f, 1e-4f);
+        ASSERT_LT(glm::dot(r.normal, r.position - kView.camera.eye), 0.0f);  // faces the camera
+        ASSERT_LT(r.object, scene.objects.size());
+      } else {
+        ASSERT_EQ(r.object, kNone);
+      }
+    }
+    EXPECT_FALSE(batch.results[300 + 4].hit);  // NaN position
+    EXPECT_FALSE(batch.results[300 + 5].hit);  // infinite position
+  }
+  ShaderSettings bad;
+  bad.area_light_samples = -1;
+  EXPECT_THROW(Shader(rays, bad), std::invalid_argument);
+}
 
 TEST(AsyncShader, DeliversWhatTheSynchronousShaderComputes) {
   Scene scene = busy_scene();

@@ -64,6 +64,15 @@ TEST(View, PixelConventions) {
   EXPECT_FALSE(frame.project({0, -1, 0}).in_front());
 }
 
+TEST(View, FarOffPixelsStillGiveUnitDirections) {
+  ViewFrame frame(View{test::look({0, 0, 0}, {0, 1, 0}, 60.0f), 100, 100});
+  for (glm::vec2 px : {glm::vec2(1e30f, 0), glm::vec2(-1e30f, 1e30f), glm::vec2(50, 3e38f)}) {
+    Ray ray = frame.ray(px.x, px.y);
+    EXPECT_NEAR(glm::length(ray.direction), 1.0f, 1e-6f);
+    EXPECT_NEAR(glm::dot(ray.direction, frame.forward()), 0.0f, 1e-6f);  // at the image plane's infinity
+  }
+}
+
 TEST(View, RaysStartOnTheNearPlane) {
   View view{test::look({1, 2, 3}, {4, -2, 0}, 70.0f), 320, 240};
   view.camera.znear = 0.25f;
