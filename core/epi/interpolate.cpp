@@ -16,20 +16,20 @@ const float kInterpolationWeights[25] = {
 
 namespace {
 
-// Kernel-weighted sum over the 5x5, branch-free: pixel k of the window (k = (dy+2)*5 + dx+2)
-// counts when bit k of `take` is set and its edge word has all the bits of `need`.
-float weighted_sum(const EpiImage& epi, int x, int y, uint32_t take, uint16_t need, float rgb[3]) {
+template <bool kInterior>
+float weighted_sum_impl(const EpiImage& epi, int x, int y, uint32_t take, uint16_t need, float rgb[3]) {
   const auto& lut = srgb8_to_linear();
-  const int dx0 = std::max(-2, -x), dx1 = std::min(2, epi.width - 1 - x);
-  const int dy0 = std::max(-2, -y), dy1 = std::min(2, epi.height - 1 - y);
+  const int dx0 = kInterior ? -2 : std::max(-2, -x), dx1 = kInterior ? 2 : std::min(2, epi.width - 1 - x);
+  const int dy0 = kInterior ? -2 : std::max(-2, -y), dy1 = kInterior ? 2 : std::min(2, epi.height - 1 - y);
   float sum[3] = {0, 0, 0}, total = 0;
   for (int dy = dy0; dy <= dy1; ++dy) {
-    const size_t row = epi.index(x, y + dy);
+    const uint16_t* edge = &epi.edge[epi.index(x, y + dy)];
+    const uint32_t* color = &epi.color[epi.index(x, y + dy)];
     for (int dx = dx0; dx <= dx1; ++dx) {
       const int k = (dy + 2) * 5 + dx + 2;
-      const uint32_t use = ((take >> k) & 1u) & uint32_t((epi.edge[row + dx] & need) == need);
+      const uint32_t use = ((take >> k) & 1u) & uint32_t((edge[dx] & need) == need);
       const float w = kInterpolationWeights[k] * float(use);
-      const uint32_t c = epi.color[row + dx];
+      const uint32_t c = color[dx];
       sum[0] += w * lut[c & 255], sum[1] += w * lut[(c >> 8) & 255], sum[2] += w * lut[(c >> 16) & 255];
       total += w;
     }
@@ -37,6 +37,15 @@ float weighted_sum(const EpiImage& epi, int x, int y, uint32_t take, uint16_t ne
   if (total > 0)
     for (int k = 0; k < 3; ++k) rgb[k] = sum[k] / total;
   return total;
+}
+
+// Kernel-weighted sum over the 5x5, branch-free: pixel k of the window (k = (dy+2)*5 + dx+2)
+// counts when bit k of `take` is set and its edge word has all the bits of `need`.
+// Interior pixels take a fixed-size loop; both visit the window in the same order.
+float weighted_sum(const EpiImage& epi, int x, int y, uint32_t take, uint16_t need, float rgb[3]) {
+  const bool interior = x >= 2 && y >= 2 && x + 2 < epi.width && y + 2 < epi.height;
+  return interior ? weighted_sum_impl<true>(epi, x, y, take, need, rgb)
+                  : weighted_sum_impl<false>(epi, x, y, take, need, rgb);
 }
 
 // The 24-bit reach mask spread to the 25 window positions, the centre included.

@@ -29,7 +29,7 @@ struct ReconstructSettings {
 
 // How the tiled reconstructor splits the work (measured defaults: docs/performance.md).
 struct Schedule {
-  int rows_per_band = 32;  // rows per parallel task
+  int rows_per_band = 16;  // rows per parallel task (BM_ReconstructBandRows)
   int threads = 0;         // 0: all cores
 };
 

@@ -152,6 +152,37 @@ TEST(Tiled, ReusedOutputBuffersGiveTheSameResult) {
   }
 }
 
+// Extremes in one pattern: a 300-vertex star around one pixel corner, a sliver shorter than 1/8 pixel,
+// near-horizontal and near-vertical edges, a polygon far outside the image.
+TEST(Reconstruct, ExtremePatternsStayFiniteAndMatchTheOracle) {
+  Pattern p;
+  p.width = 24, p.height = 16;
+  p.background = {0.1f, 0.2f, 0.3f};
+  Polygon star{{1, 1, 0}, {}};
+  for (int k = 0; k < 300; ++k) {
+    const double r = k % 2 ? 0.45 : 0.1, a = 6.283185307179586 * k / 300;
+    star.points.push_back({5.02 + r * std::cos(a), 5.03 + r * std::sin(a)});
+  }
+  p.polygons.push_back(star);
+  p.polygons.push_back({{0, 1, 1}, {{12.3, 3.3}, {12.35, 3.31}, {12.32, 3.36}}});
+  p.polygons.push_back({{1, 0, 1}, {{-1, 10.2}, {25, 10.21}, {25, 12.7}, {-1, 12.69}}});
+  p.polygons.push_back({{0, 0, 1}, {{18.4, -1}, {18.41, 17}, {20.9, 17}, {20.89, -1}}});
+  p.polygons.push_back({{1, 1, 1}, {{1e6, 1e6}, {1e6 + 5, 1e6}, {1e6, 1e6 + 5}}});
+  for (double d : {0.0, 0.3, 1.0}) {
+    expect_tiled_equals_oracle(p, {{Filter::epi, true, true}, d}, 9, {{1, 2}, {5, 1}});
+    test::Built b = test::build(p, d, 9);
+    const Reconstruction r = reconstruct_tiled(b.epi, b.masks, {});
+    for (float v : r.image.pixels) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f && v <= 1.0f);
+    EXPECT_EQ(test::kind_of(b.masks, 4, 4), CellKind::complex);  // the star spans four pixels
+    if (d == 1.0) {  // the long near-axis edges reconstruct close to exact coverage
+      const RgbImage exact = exact_image(p);
+      std::vector<uint8_t> rows(size_t(24 * 16), 0);
+      for (int x = 0; x < 16; ++x) rows[size_t(10 * 24 + x)] = rows[size_t(12 * 24 + x)] = 1;
+      EXPECT_LT(test::mean_error(r.image, exact, rows), 0.05);
+    }
+  }
+}
+
 TEST(Reconstruct, NoSamplesGiveBlackAtTopPriority) {
   test::Built b = test::build(test::random_pattern(20, 20, 5, 3), 0.0, 1);
   const Reconstruction r = reconstruct_tiled(b.epi, b.masks, {});
