@@ -1,0 +1,147 @@
+#include "render/camera_path.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace epi::render {
+
+namespace {
+
+Camera lerp(const Camera& a, const Camera& b, float t) {
+  Camera c = a;
+  c.eye = glm::mix(a.eye, b.eye, t);
+  c.target = glm::mix(a.target, b.target, t);
+  c.up = glm::mix(a.up, b.up, t);
+  c.yfov_degrees = a.yfov_degrees + (b.yfov_degrees - a.yfov_degrees) * t;
+  return c;
+}
+
+// Index of the last key at or before `frame` among keys[first, last), and the blend to the next.
+template <class Key>
+std::pair<size_t, float> locate(const std::vector<Key>& keys, size_t first, size_t last, double frame) {
+  if (frame <= keys[first].frame) return {first, 0.0f};
+  if (frame >= keys[last - 1].frame) return {last - 1, 0.0f};
+  size_t k = first;
+  while (k + 1 < last && keys[k + 1].frame <= frame) ++k;
+  const double span = keys[k + 1].frame - keys[k].frame;
+  return {k, span > 0.0 ? float((frame - keys[k].frame) / span) : 0.0f};
+}
+
+}  // namespace
+
+Camera CameraPath::camera_at(double frame) const {
+  if (cameras.empty()) return Camera{};
+  const auto [k, t] = locate(cameras, 0, cameras.size(), frame);
+  return t > 0.0f ? lerp(cameras[k].camera, cameras[k + 1].camera, t) : cameras[k].camera;
+}
+
+std::vector<glm::mat4> CameraPath::object_transforms_at(const Scene& scene, double frame) const {
+  std::vector<glm::mat4> out;
+  for (const Object& o : scene.objects) out.push_back(o.object_to_world);
+  for (size_t first = 0; first < objects.size();) {
+    size_t last = first;
+    while (last < objects.size() && objects[last].object == objects[first].object) ++last;
+    const auto [k, t] = locate(objects, first, last, frame);
+    const glm::vec3 offset = t > 0.0f ? glm::mix(objects[k].translate, objects[k + 1].translate, t) : objects[k].translate;
+    glm::mat4& m = out[objects[first].object];
+    m = glm::translate(glm::mat4(1.0f), offset) * m;
+    first = last;
+  }
+  return out;
+}
+
+CameraPath parse_camera_path(std::string_view text, const std::string& source, const Scene& scene) {
+  const Camera base = scene.cameras.empty() ? Camera{} : scene.cameras.front();
+  CameraPath path;
+  std::istringstream lines{std::string(text)};
+  std::string line;
+  int number = 0;
+  while (std::getline(lines, line)) {
+    ++number;
+    auto fail = [&](const std::string& problem) {
+      throw std::runtime_error(source + ":" + std::to_string(number) + ": " + problem);
+    };
+    if (const size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+    std::istringstream in(line);
+    std::string kind;
+    if (!(in >> kind)) continue;
+    double frame = 0;
+    if (!(in >> frame) || !std::isfinite(frame) || frame < 0) fail("expected a frame number >= 0 after '" + kind + "'");
+    auto read_vec3 = [&](const std::string& what) {
+      glm::vec3 v;
+      if (!(in >> v.x >> v.y >> v.z) || !std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+        fail("'" + what + "' needs three finite numbers");
+      if (std::abs(v.x) > 1e30f || std::abs(v.y) > 1e30f || std::abs(v.z) > 1e30f) fail("'" + what + "' is out of range");
+      return v;
+    };
+    if (kind == "camera") {
+      CameraKey key{frame, base};
+      bool eye = false, target = false;
+      std::string field;
+      while (in >> field) {
+        if (field == "eye") key.camera.eye = read_vec3(field), eye = true;
+        else if (field == "target") key.camera.target = read_vec3(field), target = true;
+        else if (field == "up") key.camera.up = read_vec3(field);
+        else if (field == "fov") {
+          if (!(in >> key.camera.yfov_degrees) || !(key.camera.yfov_degrees > 0.0f && key.camera.yfov_degrees < 180.0f))
+            fail("'fov' needs a field of view in (0, 180) degrees");
+        } else {
+          fail("unknown camera field '" + field + "' (eye, target, up, fov)");
+        }
+      }
+      if (!eye || !target) fail("a camera key needs 'eye' and 'target'");
+      if (!(glm::length(key.camera.target - key.camera.eye) > 0.0f)) fail("eye and target coincide");
+      path.cameras.push_back(key);
+    } else if (kind == "object") {
+      std::string name, field;
+      if (!(in >> name)) fail("an object key needs the object's name");
+      const auto it = std::find_if(scene.objects.begin(), scene.objects.end(), [&](const Object& o) { return o.name == name; });
+      if (it == scene.objects.end()) fail("no object named '" + name + "' in the scene");
+      if (!(in >> field) || field != "translate") fail("an object key needs 'translate X Y Z'");
+      path.objects.push_back({frame, uint32_t(it - scene.objects.begin()), read_vec3(field)});
+      if (in >> field) fail("unexpected '" + field + "' after the translation");
+    } else {
+      fail("unknown key '" + kind + "' (camera, object)");
+    }
+  }
+  if (path.cameras.empty()) path.cameras.push_back({0, base});
+  std::stable_sort(path.cameras.begin(), path.cameras.end(), [](const CameraKey& a, const CameraKey& b) { return a.frame < b.frame; });
+  std::stable_sort(path.objects.begin(), path.objects.end(), [](const ObjectKey& a, const ObjectKey& b) {
+    return a.object != b.object ? a.object < b.object : a.frame < b.frame;
+  });
+  return path;
+}
+
+CameraPath read_camera_path(const std::filesystem::path& file, const Scene& scene) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw std::runtime_error(file.string() + ": cannot open the camera path");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  if (s.find('\0') != std::string::npos) throw std::runtime_error(file.string() + ": not a text file");
+  return parse_camera_path(s, file.string(), scene);
+}
+
+CameraPath scene_camera_path(const Scene& scene, int frames) {
+  CameraPath path;
+  const Camera base = scene.cameras.empty() ? Camera{} : scene.cameras.front();
+  if (scene.camera_path.empty()) {
+    path.cameras.push_back({0, base});
+    return path;
+  }
+  const size_t keys = scene.camera_path.size();
+  for (size_t k = 0; k < keys; ++k) {
+    Camera c = scene.camera_path[k];
+    c.znear = base.znear;
+    const double frame = keys == 1 ? 0.0 : double(k) * double(std::max(frames - 1, 0)) / double(keys - 1);
+    path.cameras.push_back({frame, c});
+  }
+  return path;
+}
+
+}  // namespace epi::render

@@ -1,0 +1,46 @@
+// Camera paths for the frame loop: keys per frame for the camera and for object offsets, read
+// from a small text file (format: docs/camera-path.md) or taken from the scene's own path.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scene/scene.h"
+
+namespace epi::render {
+
+struct CameraKey {
+  double frame = 0;
+  Camera camera;
+};
+
+struct ObjectKey {
+  double frame = 0;
+  uint32_t object = 0;
+  glm::vec3 translate{0.0f};  // world-space offset added to the object's scene placement
+};
+
+struct CameraPath {
+  std::vector<CameraKey> cameras;  // sorted by frame
+  std::vector<ObjectKey> objects;  // sorted by object, then frame
+
+  // The camera at a frame: linear between keys, held before the first and after the last.
+  Camera camera_at(double frame) const;
+  // Every object's transform at a frame: the scene's, translated by its keys (linear, held).
+  std::vector<glm::mat4> object_transforms_at(const Scene& scene, double frame) const;
+  bool moves_objects() const { return !objects.empty(); }
+};
+
+// Parses the text of a path file; errors are std::runtime_error("<source>:<line>: <problem>").
+CameraPath parse_camera_path(std::string_view text, const std::string& source, const Scene& scene);
+CameraPath read_camera_path(const std::filesystem::path& file, const Scene& scene);
+
+// The scene's own path (Scene::camera_path) spread evenly over `frames` frames; without one, the
+// default camera held still.
+CameraPath scene_camera_path(const Scene& scene, int frames);
+
+}  // namespace epi::render

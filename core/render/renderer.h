@@ -1,0 +1,109 @@
+// The frame loop of the edge-and-point renderer and of the render cache (docs/render.md):
+// every frame, shading results that have arrived are cached as points, the cloud is reprojected,
+// the EPI filters (or the render cache's) reconstruct the image, and the priority image decides
+// where the shader works next. The shader runs on its own threads (AsyncShader): a frame never
+// waits for it. In sync mode each frame shades exactly its budget first (tests, comparisons).
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "epi/reconstruct.h"
+#include "render/point_cache.h"
+#include "render/staged_reconstruct.h"
+#include "shade/async_shader.h"
+#include "shade/shader.h"
+
+namespace epi::render {
+
+enum class RenderMode { epi, rendercache };
+
+struct FrameSettings {
+  RenderMode mode = RenderMode::epi;
+  int width = 512, height = 512;
+  double sample_budget = 0.02;  // fraction of the pixels requested per frame
+  bool sync = false;            // shade the budget inside each frame (deterministic for a seed)
+  uint64_t seed = 1;            // request jitter (the shader has its own seed)
+  bool antialias = true, complex_filter = true;  // epi mode
+  PointCacheSettings cache;
+  float predict_share = 0.25f;  // at most this share of the budget goes to predicted gaps
+  float predict_frames = 4.0f;  // how far ahead the camera is extrapolated
+  int predict_stride = 2;       // predictive projection uses 1/stride of the points ...
+  int predict_splat = 3;        // ... as splat x splat squares
+  int shader_threads = 0;       // AsyncShader concurrency (0: all cores)
+};
+
+// Per-stage wall time of one frame, ms (the paper's table 2).
+struct StageTimes {
+  double find_edges = 0, rasterize_edges = 0, points = 0, classify = 0, reachability = 0, interpolate = 0,
+         antialias = 0, complex = 0, sampling = 0, total = 0;
+};
+
+struct EdgeCounts {
+  int64_t silhouette = 0, sharp = 0, border = 0, shadow = 0, culled = 0;
+};
+
+struct FrameStats {
+  StageTimes ms;
+  ClassCounts pixels;
+  EdgeCounts edges;
+  ProjectionCounts points;
+  size_t samples = 0;    // shading results integrated into the cache this frame
+  size_t requested = 0;  // requests made this frame (incl. predicted)
+  size_t predicted = 0;  // of which for predicted gaps
+};
+
+class FrameRenderer {
+ public:
+  // ray_scene must be the one `shader` traces; moving objects updates it. All three outlive this.
+  FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shader& shader, const FrameSettings& settings);
+  ~FrameRenderer();
+  FrameRenderer(const FrameRenderer&) = delete;
+  FrameRenderer& operator=(const FrameRenderer&) = delete;
+
+  // Renders the next frame from `camera` with objects placed by object_to_world (one per scene
+  // object; empty: as the scene places them). Returns the image, valid until the next call.
+  const RgbImage& render(const Camera& camera, std::span<const glm::mat4> object_to_world = {});
+
+  const FrameStats& stats() const { return stats_; }
+  const PointCache& cache() const { return cache_; }
+  const std::vector<float>& priority() const { return reconstruction_.priority; }
+  const FrameSettings& settings() const { return settings_; }
+  int frame() const { return frame_; }
+
+ private:
+  struct Shot {  // a batch of requests and the view they were made for
+    uint32_t first_id = 0, count = 0;
+    ViewFrame frame;
+  };
+  struct NewShot {
+    ViewFrame frame;
+    std::vector<ShadeRequest> requests;
+  };
+  void apply_transforms(std::span<const glm::mat4> object_to_world);
+  void integrate(const ShadeBatch& batch);
+  std::vector<NewShot> choose_requests(const ViewFrame& frame, std::span<const float> priority);
+  size_t budget() const;
+
+  const Scene& scene_;
+  RayScene& ray_scene_;
+  const Shader& shader_;
+  FrameSettings settings_;
+  std::unique_ptr<AsyncShader> async_;
+  PointCache cache_;
+  EpiImage epi_;
+  BoundaryMasks masks_;
+  StagedReconstructor reconstructor_;
+  Reconstruction reconstruction_;
+  std::vector<glm::mat4> transforms_;
+  std::deque<Shot> shots_;
+  uint32_t next_id_ = 0;
+  std::unique_ptr<Camera> previous_camera_;
+  FrameStats stats_;
+  int frame_ = 0;
+};
+
+}  // namespace epi::render
