@@ -141,14 +141,16 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
     const auto ts = Clock::now();
     std::vector<NewShot> shots = choose_requests(frame, reconstruction_.priority);
     sampling_ms += ms_since(ts);
+    const auto tsh = Clock::now();
     for (const NewShot& s : shots) shader_.shade(s.frame, s.requests, batch);
+    stats_.ms.shade = ms_since(tsh);
   } else {
     async_->take_results(batch);
   }
   integrate(batch);
   stats_.points = cache_.project(frame, transforms_);
   cache_.fill_epi(epi_);
-  stats_.ms.points = ms_since(t) - sampling_ms;
+  stats_.ms.points = ms_since(t) - sampling_ms - stats_.ms.shade;
 
   // Edges (epi mode): none yet in this pipeline; the masks stay empty.
   if (settings_.mode == RenderMode::epi) masks_.clear();

@@ -40,6 +40,7 @@ struct FrameSettings {
 struct StageTimes {
   double find_edges = 0, rasterize_edges = 0, points = 0, classify = 0, reachability = 0, interpolate = 0,
          antialias = 0, complex = 0, sampling = 0, total = 0;
+  double shade = 0;  // sync mode only: shading this frame's budget (inside total)
 };
 
 struct EdgeCounts {

@@ -1,0 +1,246 @@
+// `epi render --mode epi|rendercache`: the frame loop (core/render) over a camera path, with
+// per-stage timings as in the paper's table 2, and optional frames and JSON stats.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+
+#include "commands.h"
+#include "image_io.h"
+#include "load_scene.h"
+#include "output.h"
+#include "render/camera_path.h"
+#include "render/renderer.h"
+
+namespace epi::cli {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+ShaderKind frame_shader_kind(const std::string& name) {
+  if (name == "direct") return ShaderKind::direct;
+  if (name == "glossy") return ShaderKind::glossy;
+  if (name == "gi") return ShaderKind::gi;
+  throw std::invalid_argument("unknown shader '" + name + "'");
+}
+
+// The file name of frame n from a printf-style pattern with exactly one integer conversion
+// (%d, %4d, %04d); "%%" is a literal percent sign. Anything else is an error.
+std::string frame_file(const std::string& pattern, int n) {
+  std::string out;
+  int conversions = 0;
+  for (size_t i = 0; i < pattern.size(); ++i) {
+    if (pattern[i] != '%') {
+      out += pattern[i];
+      continue;
+    }
+    if (i + 1 < pattern.size() && pattern[i + 1] == '%') {
+      out += '%', ++i;
+      continue;
+    }
+    size_t j = i + 1;
+    const bool zero = j < pattern.size() && pattern[j] == '0';
+    if (zero) ++j;
+    int width = 0;
+    while (j < pattern.size() && pattern[j] >= '0' && pattern[j] <= '9' && width < 100) width = width * 10 + (pattern[j++] - '0');
+    if (j >= pattern.size() || pattern[j] != 'd' || width > 12)
+      throw std::invalid_argument("--frames-out '" + pattern + "': only one %d (or %04d) conversion is allowed");
+    std::string number = std::to_string(n);
+    if (int(number.size()) < width) number.insert(0, size_t(width) - number.size(), zero ? '0' : ' ');
+    out += number;
+    ++conversions;
+    i = j;
+  }
+  if (conversions != 1) throw std::invalid_argument("--frames-out '" + pattern + "' needs exactly one %d conversion");
+  return out;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double mean(const std::vector<double>& v) {
+  double s = 0.0;
+  for (double x : v) s += x;
+  return v.empty() ? 0.0 : s / double(v.size());
+}
+
+bool has_camera_override(const CameraOverride& c) { return c.eye || c.target || c.up || c.fov_degrees; }
+
+}  // namespace
+
+int run_render_frames(const RenderOptions& options) {
+  const auto start = Clock::now();
+  check_output_path(options.output);
+  if (!options.stats.empty()) check_output_folder(options.stats);
+  if (!options.frames_out.empty()) check_output_path(frame_file(options.frames_out, 0));
+  if (!(options.sample_budget > 0.0 && options.sample_budget <= 1.0))
+    throw std::invalid_argument("--sample-budget " + std::to_string(options.sample_budget) + " is not in (0, 1]");
+
+  std::unique_ptr<tbb::global_control> thread_limit;
+  if (options.threads > 0)
+    thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);
+  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+
+  auto stage = Clock::now();
+  LoadOptions load_options;
+  load_options.subdiv_level_override = options.subdiv_level;
+  const Scene scene = load_scene(options.scene, load_options);
+  const double load_ms = ms_since(stage);
+
+  // The path: a file, else a still camera from --eye/--target/..., else the scene's own path.
+  render::CameraPath path;
+  if (!options.camera_path.empty()) {
+    path = render::read_camera_path(options.camera_path, scene);
+  } else if (has_camera_override(options.camera)) {
+    path.cameras.push_back({0, apply_camera_override(scene, options.camera)});
+  } else {
+    path = render::scene_camera_path(scene, options.frames);
+  }
+  for (int f : {0, options.frames - 1}) {  // validate the cameras before long work
+    View v;
+    v.camera = path.camera_at(f), v.width = options.width, v.height = options.height;
+    const ViewFrame check(v);
+  }
+
+  stage = Clock::now();
+  RayScene ray_scene(scene);
+  ShaderSettings shader_settings;
+  shader_settings.kind = frame_shader_kind(options.shader);
+  shader_settings.seed = options.seed;
+  const Shader shader(ray_scene, shader_settings);
+  render::FrameSettings settings;
+  settings.mode = options.mode == "rendercache" ? render::RenderMode::rendercache : render::RenderMode::epi;
+  settings.width = options.width, settings.height = options.height;
+  settings.sample_budget = options.sample_budget;
+  settings.sync = options.sync;
+  settings.seed = options.seed;
+  render::FrameRenderer renderer(scene, ray_scene, shader, settings);
+  const double build_ms = ms_since(stage);
+
+  // The loop.
+  struct Series {
+    std::vector<double> find_edges, rasterize_edges, points, classify, reachability, interpolate, antialias, complex,
+        sampling, shade, total, empty, simple, complex_pixels, silhouette, sharp, border, shadow, culled, samples, requested,
+        predicted;
+  } series;
+  stage = Clock::now();
+  double write_frames_ms = 0.0;
+  const RgbImage* image = nullptr;
+  {
+    ProgressBar bar("frames", options.quiet);
+    for (int f = 0; f < options.frames; ++f) {
+      const Camera camera = path.camera_at(f);
+      if (path.moves_objects()) {
+        const std::vector<glm::mat4> transforms = path.object_transforms_at(scene, f);
+        image = &renderer.render(camera, transforms);
+      } else {
+        image = &renderer.render(camera);
+      }
+      const render::FrameStats& s = renderer.stats();
+      series.find_edges.push_back(s.ms.find_edges), series.rasterize_edges.push_back(s.ms.rasterize_edges);
+      series.points.push_back(s.ms.points), series.classify.push_back(s.ms.classify);
+      series.reachability.push_back(s.ms.reachability), series.interpolate.push_back(s.ms.interpolate);
+      series.antialias.push_back(s.ms.antialias), series.complex.push_back(s.ms.complex);
+      series.sampling.push_back(s.ms.sampling), series.shade.push_back(s.ms.shade), series.total.push_back(s.ms.total);
+      const double pixels = double(options.width) * double(options.height);
+      series.empty.push_back(double(s.pixels.empty) / pixels), series.simple.push_back(double(s.pixels.simple) / pixels);
+      series.complex_pixels.push_back(double(s.pixels.complex) / pixels);
+      series.silhouette.push_back(double(s.edges.silhouette)), series.sharp.push_back(double(s.edges.sharp));
+      series.border.push_back(double(s.edges.border)), series.shadow.push_back(double(s.edges.shadow));
+      series.culled.push_back(double(s.edges.culled));
+      series.samples.push_back(double(s.samples)), series.requested.push_back(double(s.requested));
+      series.predicted.push_back(double(s.predicted));
+      if (!options.frames_out.empty()) {
+        const auto t = Clock::now();
+        write_image(frame_file(options.frames_out, f), *image);
+        write_frames_ms += ms_since(t);
+      }
+      bar.update(double(f + 1) / double(options.frames));
+    }
+  }
+  const double run_ms = ms_since(stage) - write_frames_ms;
+
+  stage = Clock::now();
+  write_image(options.output, *image);
+  const double write_ms = ms_since(stage) + write_frames_ms;
+  const double total_ms = ms_since(start);
+
+  const double frame_ms = median(series.total);
+  const double samples_per_frame = mean(series.samples);
+  const double sparseness = samples_per_frame > 0.0 ? double(options.width) * double(options.height) / samples_per_frame : 0.0;
+  std::printf("%s: %dx%d, %s, %d frames%s, budget %.3f, %s shader, %d threads, %zu triangles\n", options.scene.c_str(),
+              options.width, options.height, options.mode.c_str(), options.frames, options.sync ? " (sync)" : "",
+              options.sample_budget, options.shader.c_str(), threads, scene.triangle_count());
+  std::printf("  per frame (median): edges %.1f + %.1f ms | points %.1f ms | classify %.1f | reach %.1f | interp %.1f | "
+              "aa %.1f | complex %.1f | sampling %.1f | shade (sync) %.1f | total %.1f ms (%.1f fps)\n",
+              median(series.find_edges), median(series.rasterize_edges), median(series.points), median(series.classify),
+              median(series.reachability), median(series.interpolate), median(series.antialias), median(series.complex),
+              median(series.sampling), median(series.shade), frame_ms, frame_ms > 0.0 ? 1000.0 / frame_ms : 0.0);
+  std::printf("  %.0f samples per frame (sparseness %.0f) | pixels %.1f%% empty, %.1f%% simple, %.1f%% complex\n",
+              samples_per_frame, sparseness, 100.0 * mean(series.empty), 100.0 * mean(series.simple),
+              100.0 * mean(series.complex_pixels));
+  std::printf("  load %.0f ms | build %.0f ms | frames %.0f ms | write %.0f ms | total %.0f ms\n", load_ms, build_ms, run_ms,
+              write_ms, total_ms);
+  std::printf("  wrote %s\n", options.output.c_str());
+
+  if (!options.stats.empty()) {
+    nlohmann::json stats = {
+        {"scene", options.scene},
+        {"mode", options.mode},
+        {"shader", options.shader},
+        {"width", options.width},
+        {"height", options.height},
+        {"frames", options.frames},
+        {"sync", options.sync},
+        {"sample_budget", options.sample_budget},
+        {"seed", options.seed},
+        {"threads", threads},
+        {"triangles", scene.triangle_count()},
+        {"camera_path", options.camera_path.empty() ? (scene.camera_path.empty() ? "still" : "scene") : options.camera_path},
+        {"stages_ms",
+         {{"find_edges", median(series.find_edges)},
+          {"rasterize_edges", median(series.rasterize_edges)},
+          {"points", median(series.points)},
+          {"classify", median(series.classify)},
+          {"reachability", median(series.reachability)},
+          {"interpolate", median(series.interpolate)},
+          {"antialias", median(series.antialias)},
+          {"complex", median(series.complex)},
+          {"sampling", median(series.sampling)},
+          {"shade_sync", median(series.shade)},
+          {"total", frame_ms}}},
+        {"fps", frame_ms > 0.0 ? 1000.0 / frame_ms : 0.0},
+        {"pixels", {{"empty", mean(series.empty)}, {"simple", mean(series.simple)}, {"complex", mean(series.complex_pixels)}}},
+        {"edges",
+         {{"silhouette", median(series.silhouette)},
+          {"sharp", median(series.sharp)},
+          {"border", median(series.border)},
+          {"shadow", median(series.shadow)},
+          {"culled", median(series.culled)}}},
+        {"samples_per_frame", samples_per_frame},
+        {"requests_per_frame", mean(series.requested)},
+        {"predicted_per_frame", mean(series.predicted)},
+        {"sparseness", sparseness},
+        {"setup_ms", {{"load", load_ms}, {"build", build_ms}, {"frames", run_ms}, {"write", write_ms}, {"total", total_ms}}},
+    };
+    write_json(options.stats, stats);
+  }
+  return 0;
+}
+
+}  // namespace epi::cli
