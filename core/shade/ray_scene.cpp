@@ -145,10 +145,7 @@ void RayScene::build() {
       consistent = next < light.triangle_materials.size() && light.triangle_materials[next] == material;
       map[t] = next++;
     }
-    if (!consistent || next != light.triangle_materials.size())
-      throw std::runtime_error(scene_label(scene) + ": area light of object '" + scene.objects[light.object].name +
-                               "' does not list the emissive triangles of its mesh in order");
-    light_triangle_maps_[i] = std::move(map);
+    if (consistent && next == light.triangle_materials.size()) light_triangle_maps_[i] = std::move(map);
   }
   update_area_light_cdf();
 }

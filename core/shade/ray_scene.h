@@ -42,8 +42,10 @@ class RayScene {
   const std::vector<AreaLight>& area_lights() const { return area_lights_; }
   const std::vector<float>& area_light_cdf() const { return area_light_cdf_; }
   // The area light made from an object, or kNone; and which of its triangles a mesh triangle is
-  // (kNone if not emissive). Area lights list their mesh's emissive triangles in mesh order.
+  // (kNone if not emissive). The map exists when the light lists its mesh's emissive triangles
+  // in mesh order (io/gltf and build_area_light do); unmapped lights are only light-sampled.
   uint32_t area_light_of_object(uint32_t object) const { return area_light_of_object_[object]; }
+  bool area_light_mapped(size_t light) const { return !light_triangle_maps_[light].empty(); }
   uint32_t light_triangle(size_t light, uint32_t mesh_triangle) const { return light_triangle_maps_[light][mesh_triangle]; }
 
   // Nearest hit in (tnear, tfar), and whether anything lies there. Thread-safe.

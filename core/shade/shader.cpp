@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -214,7 +215,7 @@ struct Shader::Tracer {
     uint32_t number = uint32_t(scene.scene().punctual_lights.size() + l);
     if (!visible(s, shadow, number, light.object)) return glm::vec3(0.0f);
     glm::vec3 f = lobes.sum();
-    if (mis.brdf > 0) {
+    if (mis.brdf > 0 && scene.area_light_mapped(l)) {
       float pdf_light = pdf_area * d2 / cos_light;  // solid angle
       if (mis.specular_only) {
         float pdf_glossy = ggx_reflection_pdf(s.shading_normal, s.wo, wi, brdf.alpha);
@@ -227,10 +228,12 @@ struct Shader::Tracer {
   }
 
   // Solid-angle density with which one area-light sample from s picks the point hit on an
-  // emitter (0 when no area light covers it).
+  // emitter (0 when no area light covers it; infinite for an unmapped light, which light
+  // sampling alone then covers).
   float light_pdf(const Surface& s, const Surface& emitter) const {
     uint32_t l = scene.area_light_of_object(emitter.object);
     if (l == kNone) return 0.0f;
+    if (!scene.area_light_mapped(l)) return std::numeric_limits<float>::infinity();
     uint32_t k = scene.light_triangle(l, emitter.triangle);
     if (k == kNone) return 0.0f;
     const AreaLight& light = scene.area_lights()[l];
