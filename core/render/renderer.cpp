@@ -38,6 +38,14 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
     throw std::invalid_argument("sample budget " + std::to_string(settings.sample_budget) + " is not in (0, 1]");
   transforms_.reserve(scene.objects.size());
   for (uint32_t o = 0; o < scene.objects.size(); ++o) transforms_.push_back(ray_scene.object_to_world(o));
+  if (settings.mode == RenderMode::epi && (settings.view_edges || settings.shadow_edges)) {
+    finder_ = std::make_unique<edges::SceneEdgeFinder>(scene);
+    edge_scene_.source = scene.source;
+    edge_scene_.objects = scene.objects;
+    edge_scene_.punctual_lights = scene.punctual_lights;
+    edge_scene_.area_lights = scene.area_lights;
+    for (const Object& o : scene.objects) load_transforms_.push_back(o.object_to_world);
+  }
   if (!settings.sync) async_ = std::make_unique<AsyncShader>(shader, settings.shader_threads);
 }
 
@@ -80,6 +88,11 @@ void FrameRenderer::integrate(const ShadeBatch& batch) {
     if (shot != shots_.end())
       while (end < batch.results.size() && batch.results[end].id - shot->first_id < shot->count) ++end;
     if (shot != shots_.end()) {
+      if (finder_ && settings_.shadow_edges)
+        for (size_t k = begin; k < end; ++k)
+          for (const BlockerTriple& t : batch.triples_of(batch.results[k]))
+            if (t.blocker < transforms_.size() && t.receiver < transforms_.size())
+              triples_.insert({t.light, t.blocker, t.receiver});
       part.results.assign(batch.results.begin() + ptrdiff_t(begin), batch.results.begin() + ptrdiff_t(end));
       stats_.samples += cache_.insert(shot->frame, part, transforms_);
     }
@@ -126,6 +139,51 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
   return shots;
 }
 
+void FrameRenderer::find_and_rasterize_edges(const ViewFrame& frame) {
+  // The finder's scene placed as now; area light outlines follow their objects.
+  auto t = Clock::now();
+  for (uint32_t o = 0; o < transforms_.size(); ++o) {
+    if (edge_scene_.objects[o].object_to_world == transforms_[o]) continue;
+    edge_scene_.objects[o].object_to_world = transforms_[o];
+    for (size_t l = 0; l < edge_scene_.area_lights.size(); ++l) {
+      if (scene_.area_lights[l].object != o) continue;
+      const glm::mat4 move = transforms_[o] * glm::inverse(load_transforms_[o]);
+      AreaLight& light = edge_scene_.area_lights[l];
+      light.outlines = scene_.area_lights[l].outlines;
+      for (auto& loop : light.outlines)
+        for (glm::vec3& p : loop) p = glm::vec3(move * glm::vec4(p, 1.0f));
+    }
+  }
+  edges_.clear();
+  if (settings_.view_edges) finder_->view_edges(edge_scene_, glm::dvec3(frame.eye()), edges_);
+  if (settings_.shadow_edges && !triples_.empty()) {
+    const std::vector<edges::LightBlockerReceiver> triples(triples_.begin(), triples_.end());
+    finder_->shadow_edges(edge_scene_, triples, edges_);
+  }
+  stats_.ms.find_edges = ms_since(t);
+
+  // Projection, clipping, occlusion culling, rasterization.
+  t = Clock::now();
+  if (settings_.occlusion_culling) filter_depth(cache_.image(), settings_.depth_filter, filtered_depth_);
+  else filtered_depth_.clear();
+  for (const edges::SceneEdge& e : edges_) {
+    const EdgeFate fate = project_edge(frame, e.a, e.b, filtered_depth_, segments_);
+    if (fate == EdgeFate::outside) continue;
+    if (fate == EdgeFate::culled) {
+      ++stats_.edges.culled;
+      continue;
+    }
+    switch (e.kind) {
+      case edges::EdgeKind::silhouette: ++stats_.edges.silhouette; break;
+      case edges::EdgeKind::sharp: ++stats_.edges.sharp; break;
+      case edges::EdgeKind::border: ++stats_.edges.border; break;
+      default: ++stats_.edges.shadow; break;
+    }
+  }
+  rasterize_edges(masks_, segments_);
+  stats_.ms.rasterize_edges = ms_since(t);
+}
+
 const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm::mat4> object_to_world) {
   const auto start = Clock::now();
   stats_ = {};
@@ -152,8 +210,12 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   cache_.fill_epi(epi_);
   stats_.ms.points = ms_since(t) - sampling_ms - stats_.ms.shade;
 
-  // Edges (epi mode): none yet in this pipeline; the masks stay empty.
-  if (settings_.mode == RenderMode::epi) masks_.clear();
+  // Edges (epi mode).
+  if (settings_.mode == RenderMode::epi) {
+    masks_.clear();
+    segments_.clear();
+    if (finder_) find_and_rasterize_edges(frame);
+  }
 
   // Reconstruction.
   ReconstructSettings rs;

@@ -11,7 +11,11 @@
 #include <span>
 #include <vector>
 
+#include <set>
+
+#include "edges/scene_edges.h"
 #include "epi/reconstruct.h"
+#include "render/edge_projection.h"
 #include "render/point_cache.h"
 #include "render/staged_reconstruct.h"
 #include "shade/async_shader.h"
@@ -34,6 +38,11 @@ struct FrameSettings {
   int predict_stride = 2;       // predictive projection uses 1/stride of the points ...
   int predict_splat = 3;        // ... as splat x splat squares
   int shader_threads = 0;       // AsyncShader concurrency (0: all cores)
+  // epi mode: which edges go into the EPI, and their occlusion culling.
+  bool view_edges = true;       // silhouette, sharp, border
+  bool shadow_edges = true;     // from the light-blocker-receiver triples the shader reports
+  bool occlusion_culling = true;
+  DepthFilterSettings depth_filter;
 };
 
 // Per-stage wall time of one frame, ms (the paper's table 2).
@@ -73,6 +82,9 @@ class FrameRenderer {
   const PointCache& cache() const { return cache_; }
   const std::vector<float>& priority() const { return reconstruction_.priority; }
   const FrameSettings& settings() const { return settings_; }
+  const std::vector<Segment>& segments() const { return segments_; }  // this frame's visible edge pieces
+  const std::vector<float>& filtered_depth() const { return filtered_depth_; }
+  double edge_finder_build_ms() const { return finder_ ? finder_->build_ms() : 0.0; }
   int frame() const { return frame_; }
 
  private:
@@ -85,6 +97,7 @@ class FrameRenderer {
     std::vector<ShadeRequest> requests;
   };
   void apply_transforms(std::span<const glm::mat4> object_to_world);
+  void find_and_rasterize_edges(const ViewFrame& frame);
   void integrate(const ShadeBatch& batch);
   std::vector<NewShot> choose_requests(const ViewFrame& frame, std::span<const float> priority);
   size_t budget() const;
@@ -103,6 +116,14 @@ class FrameRenderer {
   std::deque<Shot> shots_;
   uint32_t next_id_ = 0;
   std::unique_ptr<Camera> previous_camera_;
+  // epi mode: the edge finder sees a light copy of the scene (objects, lights) placed as now.
+  std::unique_ptr<edges::SceneEdgeFinder> finder_;
+  Scene edge_scene_;
+  std::vector<glm::mat4> load_transforms_;
+  std::set<edges::LightBlockerReceiver> triples_;
+  std::vector<edges::SceneEdge> edges_;
+  std::vector<Segment> segments_;
+  std::vector<float> filtered_depth_;
   FrameStats stats_;
   int frame_ = 0;
 };
