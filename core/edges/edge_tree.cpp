@@ -157,6 +157,40 @@ EdgeTree::EdgeTree(const EdgeMesh& mesh, const EdgeTreeSettings& settings) : max
   });
   Builder builder{bounds, order_, settings};
   builder.build(0, uint32_t(order_.size()), nodes_);
+  for (EdgeTreeNode& node : nodes_) {
+    double magnitude = max_abs(node.d_lo, node.d_hi);
+    for (int a = 0; a < 3; ++a) magnitude += max_abs(node.p_lo[a], node.p_hi[a]);
+    node.magnitude = std::nextafter(float(magnitude), INFINITY);
+  }
+  planes_.resize(order_.size());
+  for (size_t i = 0; i < order_.size(); ++i) {
+    const uint32_t f0 = mesh.face0[order_[i]], f1 = mesh.face1[order_[i]];
+    planes_[i] = {{mesh.nx[f0], mesh.ny[f0], mesh.nz[f0]}, mesh.d[f0], {mesh.nx[f1], mesh.ny[f1], mesh.nz[f1]}, mesh.d[f1]};
+  }
+}
+
+// One viewpoint: every product of two floats is exact in double, and the sums of at most seven
+// such terms err by a few double ulps of the magnitude, far below the 1e-6 margin that covers the
+// float evaluation of Equation 1: the test stays conservative without explicit outward rounding.
+bool EdgeTree::may_hold_silhouette(const EdgeTreeNode& node, const double e[3], double w) {
+  double lo = -double(node.d_hi) * w, hi = -double(node.d_lo) * w;
+  double magnitude = double(node.magnitude) * w;
+  for (int a = 0; a < 3; ++a) {
+    const double p0 = node.n_lo[a] * e[a], p1 = node.n_hi[a] * e[a];
+    lo += std::min(p0, p1), hi += std::max(p0, p1);
+    magnitude += std::fabs(e[a]);
+  }
+  const double margin = 1e-6 * magnitude + 1e-40;
+  if (lo > margin || hi < -margin) return false;
+  if (w == 0.0) return true;
+  // n . (e - p) over the position box.
+  lo = hi = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const double q_lo = e[a] - node.p_hi[a], q_hi = e[a] - node.p_lo[a];
+    const double p0 = node.n_lo[a] * q_lo, p1 = node.n_lo[a] * q_hi, p2 = node.n_hi[a] * q_lo, p3 = node.n_hi[a] * q_hi;
+    lo += std::min(std::min(p0, p1), std::min(p2, p3)), hi += std::max(std::max(p0, p1), std::max(p2, p3));
+  }
+  return lo <= margin && hi >= -margin;
 }
 
 bool EdgeTree::may_hold_silhouette(const EdgeTreeNode& node, const ViewBox& box, double max_abs_d) {
@@ -182,10 +216,27 @@ bool EdgeTree::may_hold_silhouette(const EdgeTreeNode& node, const ViewBox& box,
 }
 
 void EdgeTree::silhouettes(const EdgeMesh& mesh, const Viewpoint& v, std::vector<uint32_t>& out) const {
+  (void)mesh;
   out.clear();
-  candidates(mesh, ViewBox::point(v), [&](uint32_t e) {
-    if (is_silhouette(mesh, e, v)) out.push_back(e);
-  });
+  if (nodes_.empty()) return;
+  const double e[3] = {v.x, v.y, v.z};
+  const double w = v.w;
+  uint32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const EdgeTreeNode& node = nodes_[stack[--top]];
+    if (!may_hold_silhouette(node, e, w)) continue;
+    // Equation 1 on the node's edges, written exactly as front_facing() so that the bits agree.
+    for (uint32_t i = node.first; i < node.first + node.count; ++i) {
+      const EdgePlanes& p = planes_[i];
+      const bool front0 = p.n0[0] * v.x + p.n0[1] * v.y + p.n0[2] * v.z - p.d0 * v.w > 0.0f;
+      const bool front1 = p.n1[0] * v.x + p.n1[1] * v.y + p.n1[2] * v.z - p.d1 * v.w > 0.0f;
+      if (front0 != front1) out.push_back(order_[i]);
+    }
+    if (node.right != kNone) stack[top++] = node.right;
+    if (node.left != kNone) stack[top++] = node.left;
+  }
   std::sort(out.begin(), out.end());
 }
 

@@ -13,7 +13,7 @@
 namespace epi::edges {
 
 struct EdgeTreeSettings {
-  uint32_t leaf_size = 8;                 // a node with at most this many edges is a leaf
+  uint32_t leaf_size = 32;                 // a node with at most this many edges is a leaf
   uint32_t parallel_threshold = 16384;    // subtrees with more edges are built as parallel tasks
   float keep_high_fraction = 0.5f;        // an edge stays at a node if its normals span more than this
                                           // fraction of the node's normal range on some axis
@@ -23,6 +23,7 @@ struct EdgeTreeNode {
   float n_lo[3], n_hi[3];  // face normals
   float p_lo[3], p_hi[3];  // face vertices, local frame
   float d_lo, d_hi;        // plane offsets
+  float magnitude;         // max |d| + sum of max |p|: bounds the rounding of Equation 1 (see .cpp)
   uint32_t first, count;   // edges stored at this node: order[first, first + count)
   uint32_t left = kNone, right = kNone;
 };
@@ -49,13 +50,23 @@ class EdgeTree {
 
   const std::vector<EdgeTreeNode>& nodes() const { return nodes_; }
   const std::vector<uint32_t>& order() const { return order_; }
-  size_t memory_bytes() const { return nodes_.capacity() * sizeof(EdgeTreeNode) + order_.capacity() * sizeof(uint32_t); }
+  size_t memory_bytes() const {
+    return nodes_.capacity() * sizeof(EdgeTreeNode) + order_.capacity() * sizeof(uint32_t) + planes_.capacity() * sizeof(EdgePlanes);
+  }
   // Whether a node can hold a silhouette for some viewpoint in the box (false: prune it).
   static bool may_hold_silhouette(const EdgeTreeNode& node, const ViewBox& box, double max_abs_d);
+  // The same for one viewpoint, faster (exact products in double, see edge_tree.cpp).
+  static bool may_hold_silhouette(const EdgeTreeNode& node, const double e[3], double w);
+
+  // Both face planes of every edge in tree order (a copy of EdgeMesh's, for cache-friendly leaves).
+  struct EdgePlanes {
+    float n0[3], d0, n1[3], d1;
+  };
 
  private:
   std::vector<EdgeTreeNode> nodes_;  // depth first, root at 0
   std::vector<uint32_t> order_;      // silhouette-capable edge ids (no borders), grouped by node
+  std::vector<EdgePlanes> planes_;   // planes_[i] belongs to order_[i]
   double max_abs_d_ = 0.0;
 };
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -27,9 +28,15 @@ class ReceiverTree {
   explicit ReceiverTree(const EdgeMesh& mesh, uint32_t leaf_size = 4);
 
   // Calls visit(face) for faces that may cross the plane n . x = c (object space) and may face
-  // some viewpoint of `light` (local frame; null: all faces); the caller runs the exact tests.
+  // some viewpoint of `light` (local frame; null: all faces) and lie on the inner side
+  // (m . x >= k) of every given half-space; the caller runs the exact tests.
+  struct HalfSpace {
+    glm::dvec3 m;
+    double k;
+  };
   template <class Visit>
-  void faces_near_plane(const glm::dvec3& n, double c, double tolerance, const ViewBox* light, Visit&& visit) const;
+  void faces_near_plane(const glm::dvec3& n, double c, double tolerance, const ViewBox* light,
+                        std::span<const HalfSpace> sides, Visit&& visit) const;
 
   size_t memory_bytes() const { return nodes_.capacity() * sizeof(ReceiverNode) + faces_.capacity() * sizeof(uint32_t); }
   const std::vector<ReceiverNode>& nodes() const { return nodes_; }
@@ -42,7 +49,7 @@ class ReceiverTree {
 
 template <class Visit>
 void ReceiverTree::faces_near_plane(const glm::dvec3& n, double c, double tolerance, const ViewBox* light,
-                                    Visit&& visit) const {
+                                    std::span<const HalfSpace> sides, Visit&& visit) const {
   if (nodes_.empty()) return;
   uint32_t stack[128];
   int top = 0;
@@ -55,6 +62,13 @@ void ReceiverTree::faces_near_plane(const glm::dvec3& n, double c, double tolera
       radius += std::abs(n[a]) * 0.5 * (double(node.hi[a]) - node.lo[a]);
     }
     if (centre - radius > tolerance || centre + radius < -tolerance) continue;
+    bool outside = false;
+    for (const HalfSpace& h : sides) {
+      double best = -h.k;  // the box corner farthest along m
+      for (int a = 0; a < 3; ++a) best += h.m[a] >= 0.0 ? h.m[a] * double(node.hi[a]) : h.m[a] * double(node.lo[a]);
+      outside |= best < -tolerance;
+    }
+    if (outside) continue;
     if (light && !may_face(node, *light)) continue;
     if (node.left == kNone) {
       for (uint32_t i = node.first; i < node.first + node.count; ++i) visit(faces_[i]);

@@ -164,7 +164,26 @@ void shadow_edges_of_event(const ShadowEvent& event, uint32_t event_index, std::
     // Rays leaving a blocker's silhouette at a saddle run inside it and leave through a face turned
     // away from the light: for the blocker itself every face occludes.
     const bool self = r.object == event.blocker;
-    r.tree->faces_near_plane(n, c, tolerance, self ? nullptr : &light, [&](uint32_t f) {
+    // The wedge's sides (rays from the light through the blocker edge's ends, both ways from the
+    // blocker), as half-spaces across the event plane; EV wedges (a bow tie) use the plane only.
+    ReceiverTree::HalfSpace sides[2];
+    int side_count = 0;
+    if (event.shape != EventShape::edge_vertex) {
+      const glm::dvec3 b0 = transform_point(r.world_to_object, event.blocker0);
+      const glm::dvec3 b1 = transform_point(r.world_to_object, event.blocker1);
+      const glm::dvec3 d0 = transform_point(r.world_to_object, event.blocker0 + event.direction(0.0)) - b0;
+      const glm::dvec3 d1 = transform_point(r.world_to_object, event.blocker1 + event.direction(1.0)) - b1;
+      glm::dvec3 m0 = glm::cross(d0, n), m1 = glm::cross(d1, n);
+      if (glm::dot(m0, b1 - b0) < 0.0) m0 = -m0;
+      if (glm::dot(m1, b0 - b1) < 0.0) m1 = -m1;
+      const double l0 = glm::length(m0), l1 = glm::length(m1);
+      if (l0 > 0.0 && l1 > 0.0) {
+        m0 /= l0, m1 /= l1;
+        sides[0] = {m0, glm::dot(m0, b0)}, sides[1] = {m1, glm::dot(m1, b1)};
+        side_count = 2;
+      }
+    }
+    r.tree->faces_near_plane(n, c, tolerance, self ? nullptr : &light, std::span(sides, side_count), [&](uint32_t f) {
       const glm::uvec3& tri = m.faces[f];
       bool lit = false;
       for (const Viewpoint& s : sources) lit |= front_facing(m, f, s);

@@ -1,0 +1,139 @@
+// Edge finding: tree build, tree query and brute force side by side (equal outputs checked) on
+// smooth and noisy million-face meshes and on the largest mesh of every bundled scene.
+// Run: build-*/bin/edges_bench [--benchmark_filter=...]; figures in docs/edges.md.
+#include <benchmark/benchmark.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <memory>
+
+#include <tbb/global_control.h>
+
+#include "edges/edge_tree.h"
+#include "load_scene.h"
+#include "test_meshes.h"
+
+namespace {
+
+using namespace epi;
+using namespace epi::edges;
+
+struct Case {
+  std::string name;
+  Mesh mesh;
+};
+
+// Meshes: synthetic ones, then the largest mesh of each bundled scene.
+std::vector<Case>& cases() {
+  static std::vector<Case> all = [] {
+    std::vector<Case> list;
+    list.push_back({"sphere_1M", test::uv_sphere(501, 1000)});
+    list.push_back({"bumpy_1M", test::bumpy_sphere(501, 1000, 0.02f, 1)});
+    list.push_back({"torus_100k", test::torus(500, 100)});
+    list.push_back({"sphere_10k", test::uv_sphere(51, 100)});
+    list.push_back({"sphere_1k", test::uv_sphere(17, 32)});
+    for (const char* scene : {"cornell_box", "torus_capsule", "chains", "rooms", "grid_dragon"}) {
+      const std::filesystem::path file = std::filesystem::path(EPI_SOURCE_DIR) / "scenes" / (std::string(scene) + ".gltf");
+      if (!std::filesystem::exists(file)) continue;
+      const Scene s = load_scene(file);
+      size_t largest = 0;
+      for (size_t i = 0; i < s.meshes.size(); ++i)
+        if (s.meshes[i].triangles.size() > s.meshes[largest].triangles.size()) largest = i;
+      list.push_back({std::string(scene) + "/" + s.meshes[largest].name, s.meshes[largest]});
+    }
+    return list;
+  }();
+  return all;
+}
+
+struct Prepared {
+  EdgeMesh mesh;
+  EdgeTree tree;
+  std::vector<Viewpoint> views;  // around the mesh at 2 to 4 radii, deterministic
+};
+
+Prepared& prepared(size_t i) {
+  static std::map<size_t, std::unique_ptr<Prepared>> cache;
+  auto& slot = cache[i];
+  if (!slot) {
+    slot = std::make_unique<Prepared>();
+    slot->mesh = build_edge_mesh(cases()[i].mesh);
+    slot->tree = EdgeTree(slot->mesh);
+    double radius = 0.0;
+    for (const glm::vec3& p : slot->mesh.positions) radius = std::max(radius, glm::length(glm::dvec3(p) - slot->mesh.origin));
+    for (int k = 0; k < 64; ++k) {
+      const double a = 2.399963 * k, z = 1.0 - (2.0 * k + 1.0) / 64.0, r = std::sqrt(1.0 - z * z);
+      const glm::dvec3 dir(r * std::cos(a), z, r * std::sin(a));
+      slot->views.push_back(slot->mesh.local_point(slot->mesh.origin + dir * radius * (2.0 + 2.0 * (k % 3) / 2.0)));
+    }
+    // Equal outputs, checked once.
+    std::vector<uint8_t> facing;
+    std::vector<uint32_t> a, b;
+    for (const Viewpoint& v : slot->views) {
+      slot->tree.silhouettes(slot->mesh, v, a);
+      brute_force_silhouettes(slot->mesh, v, facing, b);
+      if (a != b) throw std::runtime_error(cases()[i].name + ": tree and brute force differ");
+    }
+  }
+  return *slot;
+}
+
+void BM_EdgeMesh(benchmark::State& state) {
+  const Case& c = cases()[state.range(0)];
+  state.SetLabel(c.name);
+  for (auto _ : state) benchmark::DoNotOptimize(build_edge_mesh(c.mesh));
+  state.counters["faces"] = double(c.mesh.triangles.size());
+}
+
+void BM_TreeBuild(benchmark::State& state) {
+  const Case& c = cases()[state.range(0)];
+  state.SetLabel(c.name + (state.range(1) == 1 ? " 1 thread" : " all threads"));
+  const EdgeMesh& mesh = prepared(state.range(0)).mesh;
+  tbb::global_control limit(tbb::global_control::max_allowed_parallelism, state.range(1) == 1 ? 1 : 64);
+  for (auto _ : state) benchmark::DoNotOptimize(EdgeTree(mesh));
+  state.counters["edges"] = double(mesh.edge_count());
+}
+
+void BM_TreeQuery(benchmark::State& state) {
+  Prepared& p = prepared(state.range(0));
+  state.SetLabel(cases()[state.range(0)].name);
+  std::vector<uint32_t> out;
+  size_t k = 0, found = 0;
+  for (auto _ : state) {
+    p.tree.silhouettes(p.mesh, p.views[k++ % p.views.size()], out);
+    found += out.size();
+  }
+  state.counters["silhouettes"] = benchmark::Counter(double(found), benchmark::Counter::kAvgIterations);
+}
+
+void BM_BruteForce(benchmark::State& state) {
+  Prepared& p = prepared(state.range(0));
+  state.SetLabel(cases()[state.range(0)].name);
+  std::vector<uint32_t> out;
+  std::vector<uint8_t> facing;
+  size_t k = 0;
+  for (auto _ : state) brute_force_silhouettes(p.mesh, p.views[k++ % p.views.size()], facing, out);
+  state.counters["faces"] = double(p.mesh.face_count());
+}
+
+void register_all() {
+  for (size_t i = 0; i < cases().size(); ++i) {
+    benchmark::RegisterBenchmark("EdgeMesh", BM_EdgeMesh)->Arg(int64_t(i))->Unit(benchmark::kMillisecond);
+    for (int threads : {1, 2})
+      benchmark::RegisterBenchmark("TreeBuild", BM_TreeBuild)->Args({int64_t(i), threads})->Unit(benchmark::kMillisecond)->UseRealTime();
+    benchmark::RegisterBenchmark("TreeQuery", BM_TreeQuery)->Arg(int64_t(i))->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark("BruteForce", BM_BruteForce)->Arg(int64_t(i))->Unit(benchmark::kMicrosecond);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  register_all();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
