@@ -183,6 +183,36 @@ TEST(Reconstruct, ExtremePatternsStayFiniteAndMatchTheOracle) {
   }
 }
 
+TEST(Reconstruct, PriorityFollowsAgeAndSampleDensity) {
+  EpiImage epi(15, 15);
+  BoundaryMasks masks(15, 15, false);
+  const float grey[3] = {0.5f, 0.5f, 0.5f};
+  for (int y = 0; y < 15; ++y)
+    for (int x = 0; x < 6; ++x)
+      if ((x + y) % 2 == 0) epi.set_sample(x, y, 0.5, 0.5, grey, 32);  // dense on the left
+  epi.set_sample(11, 7, 0.5, 0.5, grey, 80);                             // one sample on the right
+  const Reconstruction r = reconstruct_oracle(epi, masks, {});
+  auto priority = [&](int x, int y) { return r.priority[size_t(y * 15 + x)]; };
+  EXPECT_FLOAT_EQ(priority(2, 2), age_priority(32));
+  EXPECT_FLOAT_EQ(priority(11, 7), age_priority(80));
+  EXPECT_LT(priority(3, 2), priority(12, 7));             // denser neighbourhood, lower priority
+  EXPECT_FLOAT_EQ(priority(12, 7), 1.0f / kInterpolationWeights[11]);  // only the left neighbour
+  EXPECT_EQ(priority(13, 0), kMaxPriority);                // nothing within reach
+}
+
+TEST(Reconstruct, AntiAliasingBlendsInLinearLight) {
+  // White right of x = 10.5, black left: the edge pixels are half covered, 0.5 in linear light.
+  Pattern p = parse_pattern(R"({"width":20,"height":10,"background":[0,0,0],"polygons":[
+      {"color":[1,1,1],"points":[[10.5,-1],[21,-1],[21,11],[10.5,11]]}]})", "half.json");
+  test::Built b = test::build(p, 1.0, 4);
+  const Reconstruction r = reconstruct_tiled(b.epi, b.masks, {});
+  for (int y = 0; y < 10; ++y) {
+    EXPECT_NEAR(r.image.at(10, y)[0], 0.5f, 1.0f / 16) << y;
+    EXPECT_NEAR(r.image.at(9, y)[0], 0.0f, 1e-6) << y;
+    EXPECT_NEAR(r.image.at(11, y)[0], 1.0f, 1e-6) << y;
+  }
+}
+
 TEST(Reconstruct, NoSamplesGiveBlackAtTopPriority) {
   test::Built b = test::build(test::random_pattern(20, 20, 5, 3), 0.0, 1);
   const Reconstruction r = reconstruct_tiled(b.epi, b.masks, {});
