@@ -168,6 +168,7 @@ void FrameRenderer::find_and_rasterize_edges(const ViewFrame& frame) {
   else filtered_depth_.clear();
   for (const edges::SceneEdge& e : edges_) {
     const EdgeFate fate = project_edge(frame, e.a, e.b, filtered_depth_, segments_);
+    segment_kinds_.resize(segments_.size(), e.kind);
     if (fate == EdgeFate::outside) continue;
     if (fate == EdgeFate::culled) {
       ++stats_.edges.culled;
@@ -214,6 +215,7 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   if (settings_.mode == RenderMode::epi) {
     masks_.clear();
     segments_.clear();
+    segment_kinds_.clear();
     if (finder_) find_and_rasterize_edges(frame);
   }
 

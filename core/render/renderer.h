@@ -83,6 +83,7 @@ class FrameRenderer {
   const std::vector<float>& priority() const { return reconstruction_.priority; }
   const FrameSettings& settings() const { return settings_; }
   const std::vector<Segment>& segments() const { return segments_; }  // this frame's visible edge pieces
+  const std::vector<edges::EdgeKind>& segment_kinds() const { return segment_kinds_; }  // one per piece
   const std::vector<float>& filtered_depth() const { return filtered_depth_; }
   double edge_finder_build_ms() const { return finder_ ? finder_->build_ms() : 0.0; }
   int frame() const { return frame_; }
@@ -123,6 +124,7 @@ class FrameRenderer {
   std::set<edges::LightBlockerReceiver> triples_;
   std::vector<edges::SceneEdge> edges_;
   std::vector<Segment> segments_;
+  std::vector<edges::EdgeKind> segment_kinds_;
   std::vector<float> filtered_depth_;
   FrameStats stats_;
   int frame_ = 0;
