@@ -1,22 +1,23 @@
 #include "epi/rendercache.h"
 
+#include <algorithm>
+
 #include "epi/interpolate.h"
 
 namespace epi {
 
 float rendercache_pixel(const EpiImage& epi, int x, int y, float rgb[3]) {
   static constexpr float kWeights[9] = {0.25f, 0.5f, 0.25f, 0.5f, 1.0f, 0.5f, 0.25f, 0.5f, 0.25f};
+  const auto& lut = srgb8_to_linear();
+  const int dx0 = std::max(-1, -x), dx1 = std::min(1, epi.width - 1 - x);
+  const int dy0 = std::max(-1, -y), dy1 = std::min(1, epi.height - 1 - y);
   float sum[3] = {0, 0, 0}, total = 0;
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx) {
-      const int px = x + dx, py = y + dy;
-      if (!epi.inside(px, py)) continue;
-      const size_t i = epi.index(px, py);
-      if (!has_sample(epi.edge[i])) continue;
-      const float w = kWeights[(dy + 1) * 3 + dx + 1];
-      float c[3];
-      decode_color(epi.color[i], c);
-      sum[0] += w * c[0], sum[1] += w * c[1], sum[2] += w * c[2];
+  for (int dy = dy0; dy <= dy1; ++dy)  // branch-free: pixels without a sample weigh 0
+    for (int dx = dx0; dx <= dx1; ++dx) {
+      const size_t i = epi.index(x + dx, y + dy);
+      const float w = kWeights[(dy + 1) * 3 + dx + 1] * float(has_sample(epi.edge[i]));
+      const uint32_t c = epi.color[i];
+      sum[0] += w * lut[c & 255], sum[1] += w * lut[(c >> 8) & 255], sum[2] += w * lut[(c >> 16) & 255];
       total += w;
     }
   if (total == 0) {
