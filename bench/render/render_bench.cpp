@@ -1,0 +1,116 @@
+// The paper's table 2 for the bundled scenes: per-stage ms of an EPI frame (and of a render cache
+// frame) along the scene's camera path, frame rate and sparseness, and the speed-up of a frame over
+// a 1-sample-per-pixel raytrace frame with the same shader. Frames run in sync mode; the time
+// reported (manual time) excludes shading, which the paper runs on other processors.
+//   render_bench --benchmark_filter='Frame/.*512'     (docs/render.md has the recorded table)
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "load_scene.h"
+#include "render/camera_path.h"
+#include "render/renderer.h"
+#include "shade/render_image.h"
+
+namespace epi::render {
+namespace {
+
+const char* kScenes[] = {"cornell_box", "chains", "rooms", "torus_capsule", "grid_dragon"};
+
+struct Loaded {
+  explicit Loaded(const std::string& name)
+      : scene(load_scene(std::string(EPI_SOURCE_DIR) + "/scenes/" + name + ".gltf")), ray_scene(scene),
+        shader(ray_scene, ShaderSettings{}) {}
+  Scene scene;
+  RayScene ray_scene;
+  Shader shader;
+};
+
+Loaded& loaded(int index) {
+  static std::map<int, std::unique_ptr<Loaded>> cache;
+  auto& slot = cache[index];
+  if (!slot) {
+    cache.clear();  // one scene in memory at a time
+    return *cache.emplace(index, std::make_unique<Loaded>(kScenes[index])).first->second;
+  }
+  return *slot;
+}
+
+constexpr int kPathFrames = 120;
+
+// args: scene index, width, height, mode (0 epi, 1 rendercache)
+void BM_Frame(benchmark::State& state) {
+  Loaded& l = loaded(int(state.range(0)));
+  FrameSettings s;
+  s.width = int(state.range(1)), s.height = int(state.range(2));
+  s.mode = state.range(3) == 0 ? RenderMode::epi : RenderMode::rendercache;
+  s.sync = true;
+  s.sample_budget = 0.01;
+  FrameRenderer renderer(l.scene, l.ray_scene, l.shader, s);
+  const CameraPath path = scene_camera_path(l.scene, kPathFrames);
+  int frame = 0;
+  for (int k = 0; k < 8; ++k) renderer.render(path.camera_at(frame++ % kPathFrames));  // warm the cache
+  StageTimes sum;
+  double samples = 0, simple = 0, complex = 0, edges = 0, culled = 0;
+  int64_t frames = 0;
+  for (auto _ : state) {
+    renderer.render(path.camera_at(frame++ % kPathFrames));
+    const FrameStats& f = renderer.stats();
+    state.SetIterationTime((f.ms.total - f.ms.shade) * 1e-3);
+    sum.find_edges += f.ms.find_edges, sum.rasterize_edges += f.ms.rasterize_edges, sum.points += f.ms.points;
+    sum.classify += f.ms.classify, sum.reachability += f.ms.reachability, sum.interpolate += f.ms.interpolate;
+    sum.antialias += f.ms.antialias, sum.complex += f.ms.complex, sum.sampling += f.ms.sampling;
+    sum.total += f.ms.total - f.ms.shade;
+    samples += double(f.samples);
+    simple += double(f.pixels.simple), complex += double(f.pixels.complex);
+    edges += double(f.edges.silhouette + f.edges.sharp + f.edges.border + f.edges.shadow), culled += double(f.edges.culled);
+    ++frames;
+  }
+  const double n = double(std::max<int64_t>(frames, 1)), pixels = double(s.width) * double(s.height);
+  state.counters["find_edges_ms"] = sum.find_edges / n;
+  state.counters["raster_ms"] = sum.rasterize_edges / n;
+  state.counters["points_ms"] = sum.points / n;
+  state.counters["classify_ms"] = sum.classify / n;
+  state.counters["reach_ms"] = sum.reachability / n;
+  state.counters["interp_ms"] = sum.interpolate / n;
+  state.counters["aa_ms"] = sum.antialias / n;
+  state.counters["complex_ms"] = sum.complex / n;
+  state.counters["sampling_ms"] = sum.sampling / n;
+  state.counters["fps"] = 1000.0 / (sum.total / n);
+  state.counters["sparseness"] = pixels / std::max(1.0, samples / n);
+  state.counters["simple_pct"] = 100.0 * simple / n / pixels;
+  state.counters["complex_pct"] = 100.0 * complex / n / pixels;
+  state.counters["edges"] = edges / n;
+  state.counters["culled"] = culled / n;
+  state.SetLabel(kScenes[state.range(0)]);
+}
+
+// A 1-sample-per-pixel frame with the same shader: the speed-up's denominator.
+void BM_RaytraceFrame(benchmark::State& state) {
+  Loaded& l = loaded(int(state.range(0)));
+  View view;
+  view.camera = l.scene.cameras.at(0), view.width = int(state.range(1)), view.height = int(state.range(2));
+  for (auto _ : state) benchmark::DoNotOptimize(render_image(l.shader, view, 1));
+  state.SetLabel(kScenes[state.range(0)]);
+}
+
+void frame_args(benchmark::internal::Benchmark* b) {
+  for (int scene = 0; scene < 5; ++scene)
+    for (auto [w, h] : {std::pair{512, 512}, std::pair{1920, 1080}})
+      for (int mode : {0, 1}) b->Args({scene, w, h, mode});
+}
+void raytrace_args(benchmark::internal::Benchmark* b) {
+  for (int scene = 0; scene < 5; ++scene)
+    for (auto [w, h] : {std::pair{512, 512}, std::pair{1920, 1080}}) b->Args({scene, w, h});
+}
+
+BENCHMARK(BM_Frame)->Apply(frame_args)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(1.0);
+BENCHMARK(BM_RaytraceFrame)->Apply(raytrace_args)->Unit(benchmark::kMillisecond)->MinTime(1.0);
+
+}  // namespace
+}  // namespace epi::render
+
+BENCHMARK_MAIN();
