@@ -1,11 +1,14 @@
 // Reachability properties, and the tiled parallel reconstructor against the oracle, bit for bit.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <bit>
 #include <cstring>
 
 #include "epi/interpolate.h"
 #include "epi/reachability.h"
 #include "epi/reconstruct.h"
+#include "epi/tables.h"
 #include "test_util.h"
 
 namespace epi {
@@ -79,6 +82,54 @@ TEST(Reachability, IsSymmetricOnRandomPatterns) {
             ASSERT_EQ((masks[size_t(y * 40 + x)] >> reach_bit(dx, dy)) & 1,
                       (masks[size_t((y + dy) * 40 + x + dx)] >> reach_bit(-dx, -dy)) & 1);
           }
+  }
+}
+
+// Reachability by brute force: every monotone staircase path from the centre to each offset,
+// each composed step by step as explicit relations over {P, S}, the paths OR-ed.
+uint32_t brute_reach(const EpiImage& epi, int x, int y) {
+  const EpiTables& t = epi_tables();
+  auto type = [&](int px, int py) {
+    return epi.inside(px, py) ? pixel_type(epi.cache[epi.index(px, py)]) : kTypeComplex;
+  };
+  auto step = [&](int ax, int ay, int bx, int by) {  // relation a -> b as bool[2][2]
+    const int dir = bx > ax ? kRight : by > ay ? kDown : bx < ax ? kLeft : kUp;
+    const int m = t.neighbour[dir][(type(ax, ay) << 4) | type(bx, by)];
+    std::array<std::array<bool, 2>, 2> r{};
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) r[i][j] = (m >> (2 * i + j)) & 1;
+    return r;
+  };
+  uint32_t result = 0;
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx) {
+      if (!(dx || dy)) continue;
+      const int nx = std::abs(dx), ny = std::abs(dy), sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
+      bool reach_pp = false;
+      // A path: a sequence of nx + ny steps, a bit per step (1 = along x).
+      for (int moves = 0; moves < (1 << (nx + ny)); ++moves) {
+        if (std::popcount(unsigned(moves)) != nx) continue;
+        std::array<bool, 2> from_p{true, false};  // regions of the current pixel reachable from P
+        int cx = x, cy = y;
+        for (int k = 0; k < nx + ny; ++k) {
+          const int px = cx + ((moves >> k) & 1 ? sx : 0), py = cy + ((moves >> k) & 1 ? 0 : sy);
+          const auto r = step(cx, cy, px, py);
+          from_p = {(from_p[0] && r[0][0]) || (from_p[1] && r[1][0]), (from_p[0] && r[0][1]) || (from_p[1] && r[1][1])};
+          cx = px, cy = py;
+        }
+        reach_pp = reach_pp || from_p[0];
+      }
+      if (reach_pp) result |= 1u << reach_bit(dx, dy);
+    }
+  return result;
+}
+
+TEST(Reachability, MatchesBruteForcePathEnumeration) {
+  for (uint64_t seed = 1; seed <= 8; ++seed) {
+    test::Built b = test::build(test::random_pattern(32, 24, 20, seed), 0.5, seed);
+    classify_rows(b.epi, b.masks, 0, 24);
+    for (int y = 0; y < 24; ++y)
+      for (int x = 0; x < 32; ++x) ASSERT_EQ(reach_full(b.epi, x, y), brute_reach(b.epi, x, y)) << x << "," << y;
   }
 }
 
