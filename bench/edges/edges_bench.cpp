@@ -32,6 +32,8 @@ std::vector<Case>& cases() {
     list.push_back({"sphere_1M", test::uv_sphere(501, 1000)});
     list.push_back({"bumpy_1M", test::bumpy_sphere(501, 1000, 0.02f, 1)});
     list.push_back({"torus_100k", test::torus(500, 100)});
+    list.push_back({"sphere_300k", test::uv_sphere(275, 546)});
+    list.push_back({"sphere_100k", test::uv_sphere(159, 316)});
     list.push_back({"sphere_10k", test::uv_sphere(51, 100)});
     list.push_back({"sphere_1k", test::uv_sphere(17, 32)});
     for (const char* scene : {"cornell_box", "torus_capsule", "chains", "rooms", "grid_dragon"}) {
@@ -52,6 +54,7 @@ struct Prepared {
   EdgeMesh mesh;
   EdgeTree tree;
   std::vector<Viewpoint> views;  // around the mesh at 2 to 4 radii, deterministic
+  double nodes_visited = 0.0, edges_tested = 0.0;  // per query, averaged over the views
 };
 
 Prepared& prepared(size_t i) {
@@ -67,6 +70,19 @@ Prepared& prepared(size_t i) {
       const double a = 2.399963 * k, z = 1.0 - (2.0 * k + 1.0) / 64.0, r = std::sqrt(1.0 - z * z);
       const glm::dvec3 dir(r * std::cos(a), z, r * std::sin(a));
       slot->views.push_back(slot->mesh.local_point(slot->mesh.origin + dir * radius * (2.0 + 2.0 * (k % 3) / 2.0)));
+    }
+    // The tree's work per query (the inputs of the choice rule's cost model).
+    for (const Viewpoint& v : slot->views) {
+      const double e[3] = {v.x, v.y, v.z};
+      std::vector<uint32_t> stack = {0};
+      while (!slot->tree.nodes().empty() && !stack.empty()) {
+        const EdgeTreeNode& node = slot->tree.nodes()[stack.back()];
+        stack.pop_back();
+        slot->nodes_visited += 1.0 / slot->views.size();
+        if (!EdgeTree::may_hold_silhouette(node, e, v.w)) continue;
+        slot->edges_tested += double(node.count) / slot->views.size();
+        if (node.left != kNone) stack.push_back(node.left), stack.push_back(node.right);
+      }
     }
     // Equal outputs, checked once.
     std::vector<uint8_t> facing;
@@ -106,6 +122,8 @@ void BM_TreeQuery(benchmark::State& state) {
     found += out.size();
   }
   state.counters["silhouettes"] = benchmark::Counter(double(found), benchmark::Counter::kAvgIterations);
+  state.counters["nodes"] = p.nodes_visited;
+  state.counters["tested"] = p.edges_tested;
 }
 
 void BM_BruteForce(benchmark::State& state) {
@@ -116,6 +134,7 @@ void BM_BruteForce(benchmark::State& state) {
   size_t k = 0;
   for (auto _ : state) brute_force_silhouettes(p.mesh, p.views[k++ % p.views.size()], facing, out);
   state.counters["faces"] = double(p.mesh.face_count());
+  state.counters["edges"] = double(p.mesh.edge_count());
 }
 
 void register_all() {

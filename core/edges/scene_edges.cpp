@@ -94,11 +94,14 @@ SceneEdgeFinder::SceneEdgeFinder(const Scene& scene, const SceneEdgeSettings& se
     const EdgeMesh& m = data.edges;
     double radius = 0.0;
     for (const glm::vec3& p : m.positions) radius = std::max(radius, glm::length(glm::dvec3(p) - m.origin));
-    double nodes = 0.0, edges = 0.0;
+    double nodes = 0.0, edges = 0.0, silhouettes = 0.0;
+    std::vector<uint32_t> found;
     for (int k = 0; k < 6; ++k) {
       glm::dvec3 offset(0.0);
       offset[k / 2] = (k % 2 ? -3.0 : 3.0) * std::max(radius, 1e-30);
       const ViewBox box = ViewBox::point(m.local_point(m.origin + offset));
+      data.tree.silhouettes(m, m.local_point(m.origin + offset), found);
+      silhouettes += found.size() / 6.0;
       const auto& tree_nodes = data.tree.nodes();
       std::vector<uint32_t> stack = tree_nodes.empty() ? std::vector<uint32_t>{} : std::vector<uint32_t>{0};
       while (!stack.empty()) {
@@ -111,8 +114,9 @@ SceneEdgeFinder::SceneEdgeFinder(const Scene& scene, const SceneEdgeSettings& se
       }
     }
     const FinderCost& c = settings.cost;
-    data.choice.tree_ns = nodes * c.ns_per_node + edges * c.ns_per_tree_edge;
-    data.choice.brute_ns = double(m.face_count()) * c.ns_per_face + double(m.edge_count()) * c.ns_per_brute_edge;
+    data.choice.tree_ns = nodes * c.ns_per_node + edges * c.ns_per_tree_edge + silhouettes * c.ns_per_tree_silhouette;
+    data.choice.brute_ns = double(m.face_count()) * c.ns_per_face + double(m.edge_count()) * c.ns_per_brute_edge +
+                           silhouettes * c.ns_per_brute_silhouette;
     data.choice.tree = settings.force == 0 ? data.choice.tree_ns < data.choice.brute_ns : settings.force > 0;
   }
   lights_ = scene_lights(scene, &light_names_);

@@ -39,8 +39,8 @@ struct LightBlockerReceiver {
 // measured by bench/edges (docs/edges.md): the tree's cost is estimated from its work over a few
 // fixed viewpoints around the mesh, brute force's from the face and edge counts.
 struct FinderCost {
-  double ns_per_node = 4.0, ns_per_tree_edge = 2.0;      // tree traversal
-  double ns_per_face = 0.25, ns_per_brute_edge = 0.6;    // brute force
+  double ns_per_node = 60.0, ns_per_tree_edge = 1.0, ns_per_tree_silhouette = 40.0;   // tree: traversal, leaf tests, sorted output
+  double ns_per_face = 0.33, ns_per_brute_edge = 0.33, ns_per_brute_silhouette = 10.0;  // brute force
 };
 
 struct SceneEdgeSettings {
