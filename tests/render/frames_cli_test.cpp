@@ -1,0 +1,122 @@
+// `epi render --mode epi|rendercache` as a user meets it: reproducible --sync output, the stats
+// JSON of the issue, --frames-out, camera path files, and clean one-line errors.
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct EpiRun {
+  int exit_code = -1;
+  std::string out;  // stdout and stderr together
+};
+
+EpiRun run_epi(const std::string& args) {
+  const std::string command = std::string(EPI_BINARY_DIR) + "/bin/epi " + args + " 2>&1";
+  EpiRun run;
+  FILE* pipe = ::popen(command.c_str(), "r");
+  if (!pipe) return run;
+  std::array<char, 4096> buffer;
+  size_t n;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.out.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+fs::path temp_dir() {
+  fs::path dir = fs::temp_directory_path() / ("epi-frames-test-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string read_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+const std::string kScene = std::string(EPI_SOURCE_DIR) + "/scenes/cornell_box.gltf";
+const std::string kSmall = " --size 48x40 --frames 4 --sample-budget 0.05 --quiet";
+
+TEST(FramesCli, SyncRunsGiveTheSameBytesAndTheStatsOfTheIssue) {
+  const fs::path dir = temp_dir();
+  for (const char* mode : {"epi", "rendercache"}) {
+    const std::string base = "render " + kScene + " --mode " + mode + kSmall + " --sync --seed 5";
+    const EpiRun a = run_epi(base + " -o " + (dir / "a.png").string() + " --stats " + (dir / "a.json").string() +
+                          " --frames-out " + (dir / "f%03d.exr").string());
+    ASSERT_EQ(a.exit_code, 0) << a.out;
+    const EpiRun b = run_epi(base + " -o " + (dir / "b.png").string());
+    ASSERT_EQ(b.exit_code, 0) << b.out;
+    EXPECT_EQ(read_file(dir / "a.png"), read_file(dir / "b.png"));
+    for (int f = 0; f < 4; ++f) {
+      char name[16];
+      std::snprintf(name, sizeof name, "f%03d.exr", f);
+      EXPECT_TRUE(fs::exists(dir / name)) << name;
+    }
+    EXPECT_FALSE(fs::exists(dir / "f004.exr"));
+    const nlohmann::json stats = nlohmann::json::parse(read_file(dir / "a.json"));
+    for (const char* stage : {"find_edges", "rasterize_edges", "points", "classify", "reachability", "interpolate",
+                              "antialias", "complex", "total"})
+      EXPECT_TRUE(stats["stages_ms"].contains(stage)) << stage;
+    for (const char* kind : {"silhouette", "sharp", "border", "shadow", "culled"}) EXPECT_TRUE(stats["edges"].contains(kind));
+    const double fractions = stats["pixels"]["empty"].get<double>() + stats["pixels"]["simple"].get<double>() +
+                             stats["pixels"]["complex"].get<double>();
+    EXPECT_NEAR(fractions, 1.0, 1e-9);
+    EXPECT_NEAR(stats["samples_per_frame"].get<double>(), 96.0, 1e-9);  // 5% of 48x40
+    EXPECT_NEAR(stats["sparseness"].get<double>(), 20.0, 1e-9);
+    if (std::string(mode) == "epi") {
+      EXPECT_GT(stats["edges"]["border"].get<double>() + stats["edges"]["silhouette"].get<double>(), 0.0);
+    } else {
+      EXPECT_EQ(stats["edges"]["silhouette"].get<double>(), 0.0);
+    }
+  }
+  fs::remove_all(dir);
+}
+
+TEST(FramesCli, CameraPathFileWithAMovingObject) {
+  const fs::path dir = temp_dir();
+  std::ofstream(dir / "path.txt") << "camera 0 eye 0 1 3.5 target 0 1 0\ncamera 3 eye 0.5 1 3.4 target 0 1 0\n"
+                                     "object 0 short_block translate 0 0 0\nobject 3 short_block translate 0.2 0 0\n";
+  const EpiRun run = run_epi("render " + kScene + " --mode epi" + kSmall + " --sync --camera-path " + (dir / "path.txt").string() +
+                          " -o " + (dir / "p.png").string() + " --stats " + (dir / "p.json").string());
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  EXPECT_TRUE(fs::exists(dir / "p.png"));
+  fs::remove_all(dir);
+}
+
+TEST(FramesCli, BadInputFailsWithOneLineAndNoOutput) {
+  const fs::path dir = temp_dir();
+  std::ofstream(dir / "bad.txt") << "# fine\ncamera 0 eye 0 1 3 target 0 1 3\n";
+  std::ofstream(dir / "nobody.txt") << "object 0 nobody translate 1 0 0\n";
+  struct Case {
+    std::string args, expect;
+  } cases[] = {
+      {"--camera-path " + (dir / "bad.txt").string(), "bad.txt:2: eye and target coincide"},
+      {"--camera-path " + (dir / "nobody.txt").string(), "nobody.txt:1: no object named 'nobody'"},
+      {"--camera-path " + (dir / "missing.txt").string(), "missing.txt: cannot open"},
+      {"--frames-out " + (dir / "f%s.png").string(), "--frames-out"},
+      {"--frames-out " + (dir / "f.png").string(), "exactly one %d"},
+      {"--frames-out " + (dir / "no/such/dir/f%d.png").string(), "no"},
+  };
+  for (const Case& c : cases) {
+    const EpiRun run = run_epi("render " + kScene + " --mode epi" + kSmall + " --sync -o " + (dir / "o.png").string() + " " + c.args);
+    EXPECT_EQ(run.exit_code, 1) << c.args << "\n" << run.out;
+    EXPECT_NE(run.out.find(c.expect), std::string::npos) << run.out;
+    EXPECT_EQ(std::count(run.out.begin(), run.out.end(), '\n'), 1) << run.out;
+    EXPECT_FALSE(fs::exists(dir / "o.png"));
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
