@@ -149,7 +149,11 @@ tinygltf::Model parse_with_tinygltf(const FileContents& contents, const std::fil
   else
     ok = loader.LoadASCIIFromString(&model, &err, &warn, contents.json_text.data(),
                                     unsigned(contents.json_text.size()), base_dir);
-  if (!ok || !err.empty()) fail(one_line(err.empty() ? "tinygltf could not load the file" : err));
+  if (!ok || !err.empty()) {
+    std::string problem = one_line(err.empty() ? "tinygltf could not load the file" : err);
+    if (problem.size() > 240) problem = problem.substr(0, 240) + "...";  // it may quote a whole data: URI
+    fail(problem);
+  }
   return model;
 }
 
@@ -753,6 +757,7 @@ Camera default_camera(const Bounds& bounds) {
 }
 
 glm::vec3 read_vec3_json(const json& object, const char* key, const std::string& where) {
+  if (!object.contains(key)) fail(where + "." + key + ": missing");
   const json& v = object[key];
   if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
     fail(where + "." + key + ": expected an array of 3 numbers");
@@ -940,7 +945,7 @@ Scene load_scene(const std::filesystem::path& file, const LoadOptions& options) 
   try {
     return load(file, options);
   } catch (const std::exception& e) {
-    throw SceneLoadError(file.string() + ": " + one_line(e.what()));
+    throw SceneLoadError(one_line(file.string() + ": " + e.what()));
   }
 }
 
