@@ -114,13 +114,13 @@ TEST(Quality, NoColourCrossesAClosedEdge) {
           ++checked;
         }
       EXPECT_GT(checked, 1000);
-      // Whatever the fallbacks do, a pixel whose whole 7x7 footprint is free of edges gets its
-      // polygon's colour, or black when no sample lies there.
-      for (int y = 3; y + 3 < p.height; ++y)
-        for (int x = 3; x + 3 < p.width; ++x) {
+      // Whatever the fallbacks do, a pixel whose whole footprint (9x9: fill over 5x5 of
+      // interpolations over 5x5) is free of edges gets its polygon's colour, or black.
+      for (int y = 4; y + 4 < p.height; ++y)
+        for (int x = 4; x + 4 < p.width; ++x) {
           bool clear = true;
-          for (int dy = -3; dy <= 3; ++dy)
-            for (int dx = -3; dx <= 3; ++dx) clear = clear && !edges[size_t((y + dy) * p.width + x + dx)];
+          for (int dy = -4; dy <= 4; ++dy)
+            for (int dx = -4; dx <= 4; ++dx) clear = clear && !edges[size_t((y + dy) * p.width + x + dx)];
           if (!clear) continue;
           const float* got = r.image.at(x, y);
           const bool black = got[0] == 0 && got[1] == 0 && got[2] == 0;
