@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 namespace epi::edges {
 namespace {
@@ -87,8 +88,8 @@ SceneEdgeFinder::SceneEdgeFinder(const Scene& scene, const SceneEdgeSettings& se
   for (size_t i = 0; i < scene.meshes.size(); ++i) {
     MeshData& data = meshes_[i];
     data.edges = build_edge_mesh(scene.meshes[i]);
-    data.tree = EdgeTree(data.edges, settings.tree);
-    data.receivers = ReceiverTree(data.edges);
+    tbb::parallel_invoke([&] { data.tree = EdgeTree(data.edges, settings.tree); },
+                         [&] { data.receivers = ReceiverTree(data.edges); });
 
     // The choice rule: estimated tree work over six viewpoints around the mesh against brute force.
     const EdgeMesh& m = data.edges;
