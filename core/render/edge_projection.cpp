@@ -4,6 +4,9 @@
 #include <cmath>
 #include <limits>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace epi::render {
 
 void filter_depth(const PointImage& points, const DepthFilterSettings& settings, std::vector<float>& out) {
@@ -12,7 +15,12 @@ void filter_depth(const PointImage& points, const DepthFilterSettings& settings,
   // Rows first: max depth and point count over x-1..x+2; then columns over y-1..y+2.
   std::vector<float> row_max(size_t(w) * size_t(h));
   std::vector<uint8_t> row_count(size_t(w) * size_t(h));
-  for (int y = 0; y < h; ++y)
+  auto rows = [h](auto&& body) {
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& r) {
+      for (int y = r.begin(); y != r.end(); ++y) body(y);
+    });
+  };
+  rows([&](int y) {
     for (int x = 0; x < w; ++x) {
       float m = -inf;
       int n = 0;
@@ -25,8 +33,9 @@ void filter_depth(const PointImage& points, const DepthFilterSettings& settings,
       }
       row_max[points.index(x, y)] = m, row_count[points.index(x, y)] = uint8_t(n);
     }
+  });
   out.assign(size_t(w) * size_t(h), inf);
-  for (int y = 0; y < h; ++y)
+  rows([&](int y) {
     for (int x = 0; x < w; ++x) {
       float m = -inf;
       int n = 0;
@@ -39,6 +48,7 @@ void filter_depth(const PointImage& points, const DepthFilterSettings& settings,
       const float empty = float(16 - n) / 16.0f;
       out[points.index(x, y)] = m * (1.0f + settings.base_offset + settings.sparse_offset * empty);
     }
+  });
 }
 
 EdgeFate project_edge(const ViewFrame& frame, const glm::dvec3& a, const glm::dvec3& b,

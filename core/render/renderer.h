@@ -85,6 +85,8 @@ class FrameRenderer {
   const std::vector<Segment>& segments() const { return segments_; }  // this frame's visible edge pieces
   const std::vector<edges::EdgeKind>& segment_kinds() const { return segment_kinds_; }  // one per piece
   const std::vector<float>& filtered_depth() const { return filtered_depth_; }
+  const std::vector<edges::SceneEdge>& scene_edges() const { return edges_; }  // this frame's, world space
+  const edges::SceneEdgeFinder* edge_finder() const { return finder_.get(); }
   double edge_finder_build_ms() const { return finder_ ? finder_->build_ms() : 0.0; }
   int frame() const { return frame_; }
 

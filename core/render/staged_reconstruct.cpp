@@ -71,22 +71,40 @@ void StagedReconstructor::run(EpiImage& epi, const BoundaryMasks& masks, const R
   }
   times.reachability = ms_since(t);
 
-  // Interpolation and priority.
+  // Interpolation and priority, then (epi) the fill step for pixels that reached no sample.
   t = Clock::now();
+  found_.resize(pixels);
   for_rows(h, [&](int y) {
     for (int x = 0; x < w; ++x) {
       const size_t i = epi.index(x, y);
-      out.priority[i] = epi_filter ? interpolate_pixel(epi, x, y, reach_[i], interpolated_.at(x, y))
+      bool found = true;
+      out.priority[i] = epi_filter ? interpolate_pixel(epi, x, y, reach_[i], interpolated_.at(x, y), &found)
                                    : rendercache_pixel(epi, x, y, interpolated_.at(x, y));
+      found_[i] = found;
     }
   });
+  const RgbImage* primary = &interpolated_;
+  if (epi_filter) {
+    if (filled_.width != w || filled_.height != h) filled_ = RgbImage(w, h);
+    for_rows(h, [&](int y) {
+      const float* rows[5];
+      const uint8_t* found_rows[5];
+      for (int k = 0; k < 5; ++k) {
+        const int ry = y - 2 + k;
+        rows[k] = ry >= 0 && ry < h ? interpolated_.at(0, ry) : nullptr;
+        found_rows[k] = ry >= 0 && ry < h ? &found_[epi.index(0, ry)] : nullptr;
+      }
+      for (int x = 0; x < w; ++x) fill_pixel(x, w, reach_[epi.index(x, y)], rows, found_rows, filled_.at(x, y));
+    });
+    primary = &filled_;
+  }
   times.interpolate = ms_since(t);
 
   // Anti-aliasing of simple pixels (and the pass-through of the others).
   t = Clock::now();
   for_rows(h, [&](int y) {
-    const float* rows[3] = {y > 0 ? interpolated_.at(0, y - 1) : nullptr, interpolated_.at(0, y),
-                            y + 1 < h ? interpolated_.at(0, y + 1) : nullptr};
+    const float* rows[3] = {y > 0 ? primary->at(0, y - 1) : nullptr, primary->at(0, y),
+                            y + 1 < h ? primary->at(0, y + 1) : nullptr};
     for (int x = 0; x < w; ++x) {
       const int type = pixel_type(epi.cache[epi.index(x, y)]);
       float* o = out.image.at(x, y);
@@ -106,7 +124,7 @@ void StagedReconstructor::run(EpiImage& epi, const BoundaryMasks& masks, const R
     for_rows(h, [&](int y) {
       for (int x = 0; x < w; ++x)
         if (pixel_type(epi.cache[epi.index(x, y)]) == kTypeComplex)
-          complex_pixel(epi, masks, x, y, interpolated_.at(x, y), out.image.at(x, y));
+          complex_pixel(epi, masks, x, y, primary->at(x, y), out.image.at(x, y));
     });
   }
   times.complex = ms_since(t);

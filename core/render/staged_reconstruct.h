@@ -10,7 +10,7 @@
 namespace epi::render {
 
 struct ReconstructTimes {
-  double classify = 0, reachability = 0, interpolate = 0, antialias = 0, complex = 0;  // ms
+  double classify = 0, reachability = 0, interpolate = 0, antialias = 0, complex = 0;  // ms (interpolate includes the fill step)
 };
 
 class StagedReconstructor {
@@ -21,7 +21,8 @@ class StagedReconstructor {
 
  private:
   std::vector<uint32_t> reach_;
-  RgbImage interpolated_;
+  std::vector<uint8_t> found_;
+  RgbImage interpolated_, filled_;
 };
 
 }  // namespace epi::render

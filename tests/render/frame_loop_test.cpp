@@ -1,6 +1,7 @@
 // The frame loop on a small analytic scene (a lit plane, a box on it, a point light):
 // determinism of --sync, the exact budget, error falling with a still camera, moving objects,
 // the asynchronous shader, and the staged reconstructor against core/epi's oracle.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cmath>
@@ -198,6 +199,69 @@ TEST(StagedReconstructor, EqualsTheOracleBitForBit) {
       EXPECT_EQ(got.counts.complex, expected.counts.complex);
     }
   }
+}
+
+}  // namespace
+}  // namespace epi::render
+
+namespace epi::render {
+namespace {
+
+// Under a directional light, sliding the box by (dx, dy, 0) slides its shadow on the ground by the
+// same amount: every shadow edge after the move is a shadow edge from before, translated. Moving
+// only the camera recomputes no shadow edges.
+TEST(FrameLoop, ShadowEdgesMoveWithTheirObject) {
+  Scene scene = plane_and_box();
+  scene.punctual_lights.clear();
+  PunctualLight sun;
+  sun.name = "sun", sun.type = LightType::directional;
+  sun.direction = glm::normalize(glm::vec3(0.4f, 0.3f, -1.0f)), sun.intensity = glm::vec3(3.0f);
+  scene.punctual_lights.push_back(sun);
+  RayScene ray_scene(scene);
+  Shader shader(ray_scene, ShaderSettings{});
+  FrameRenderer renderer(scene, ray_scene, shader, small_settings(RenderMode::epi));
+  Camera camera = scene.cameras[0];
+  std::vector<glm::mat4> transforms = {glm::mat4(1.0f), glm::mat4(1.0f)};
+  for (int k = 0; k < 6; ++k) renderer.render(camera, transforms);
+  auto shadow_edges = [&] {
+    std::vector<edges::SceneEdge> out;
+    for (const edges::SceneEdge& e : renderer.scene_edges())
+      if (e.kind == edges::EdgeKind::umbral || e.kind == edges::EdgeKind::penumbral || e.kind == edges::EdgeKind::shadow)
+        out.push_back(e);
+    return out;
+  };
+  const std::vector<edges::SceneEdge> before = shadow_edges();
+  ASSERT_GT(before.size(), 4u);
+  const size_t recomputed = renderer.edge_finder()->pairs_recomputed();
+  camera.eye.x += 0.3f;
+  renderer.render(camera, transforms);
+  EXPECT_EQ(renderer.edge_finder()->pairs_recomputed(), recomputed);  // the camera alone moved
+
+  const glm::dvec3 offset(0.7, -0.4, 0.0);
+  transforms[1] = glm::translate(glm::mat4(1.0f), glm::vec3(offset));
+  renderer.render(camera, transforms);
+  EXPECT_GT(renderer.edge_finder()->pairs_recomputed(), recomputed);
+  const std::vector<edges::SceneEdge> after = shadow_edges();
+  ASSERT_GT(after.size(), 4u);
+  // Edges may be split differently: compare points along them.
+  auto on_some_edge = [](const std::vector<edges::SceneEdge>& list, uint32_t object, glm::dvec3 p) {
+    return std::any_of(list.begin(), list.end(), [&](const edges::SceneEdge& e) {
+      if (e.object != object) return false;
+      const glm::dvec3 ab = e.b - e.a;
+      const double t = std::clamp(glm::dot(p - e.a, ab) / std::max(glm::dot(ab, ab), 1e-30), 0.0, 1.0);
+      return glm::length(p - (e.a + t * ab)) < 1e-4;
+    });
+  };
+  for (const edges::SceneEdge& e : after)
+    for (double t : {0.0, 0.3, 0.7, 1.0}) {
+      const glm::dvec3 p = glm::mix(e.a, e.b, t);
+      EXPECT_TRUE(on_some_edge(before, e.object, p - offset)) << "after (" << p.x << "," << p.y << "," << p.z << ")";
+    }
+  for (const edges::SceneEdge& e : before)
+    for (double t : {0.0, 0.3, 0.7, 1.0}) {
+      const glm::dvec3 p = glm::mix(e.a, e.b, t);
+      EXPECT_TRUE(on_some_edge(after, e.object, p + offset)) << "before (" << p.x << "," << p.y << "," << p.z << ")";
+    }
 }
 
 }  // namespace
