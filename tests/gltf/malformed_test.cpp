@@ -492,5 +492,55 @@ TEST(Malformed, RandomNumberReplacementFailsCleanly) {
   EXPECT_GT(rejected, 200);
 }
 
+// Property test: remove one member anywhere in a valid document (a required index, a type, a
+// whole section); the result loads consistently or fails cleanly.
+TEST(Malformed, RandomMemberRemovalFailsCleanly) {
+  TempDir dir;
+  GltfBuilder base = valid_scene();
+  base.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+      {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.1}, {"outerConeAngle", 0.6}}}}};
+  base.doc["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 0;
+  base.doc["meshes"][0]["extras"]["epi"]["subdivision"] = {{"level", 1}, {"quads", true}, {"creases", {{0, 1, 2.0}}}};
+  base.doc["extras"]["epi"]["camera_path"] = {{{"eye", {0, 0, 3}}, {"target", {0, 0, 0}}}};
+  std::vector<json::json_pointer> members;  // every object member, at any depth
+  std::vector<const json*> stack{&base.doc};
+  std::vector<json::json_pointer> paths{json::json_pointer()};
+  while (!stack.empty()) {
+    const json* value = stack.back();
+    const json::json_pointer path = paths.back();
+    stack.pop_back();
+    paths.pop_back();
+    if (value->is_object())
+      for (const auto& [key, child] : value->items()) {
+        members.push_back(path / key);
+        stack.push_back(&child);
+        paths.push_back(path / key);
+      }
+    else if (value->is_array())
+      for (size_t i = 0; i < value->size(); ++i) {
+        stack.push_back(&(*value)[i]);
+        paths.push_back(path / i);
+      }
+  }
+  int loaded = 0, rejected = 0;
+  for (size_t i = 0; i < members.size(); ++i) {
+    GltfBuilder b = base;
+    b.doc[members[i].parent_pointer()].erase(members[i].back());
+    const auto file = i % 2 ? b.write_glb(dir / "m.glb") : b.write_gltf(dir / "m.gltf");
+    try {
+      const Scene scene = load_scene(file);
+      for (const Object& o : scene.objects) ASSERT_LT(o.mesh, scene.meshes.size());
+      ++loaded;
+    } catch (const SceneLoadError& e) {
+      const std::string what = e.what();
+      ASSERT_EQ(what.find('\n'), std::string::npos) << what;
+      ASSERT_EQ(what.rfind(file.string() + ": ", 0), 0u) << what;
+      ++rejected;
+    }
+  }
+  EXPECT_GT(loaded, 10);
+  EXPECT_GT(rejected, 10);
+}
+
 }  // namespace
 }  // namespace epi
