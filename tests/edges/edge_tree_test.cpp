@@ -192,6 +192,33 @@ TEST(EdgeTree, PrunesMostOfASmoothMesh) {
   EXPECT_LT(visited, m.edge_count() / 20) << visited << " of " << m.edge_count();
 }
 
+TEST(EdgeTree, BoxQueryKeepsEverySilhouetteFromInsideTheBox) {
+  // The interval query with a box of viewpoints (area lights) must keep every edge that is a
+  // silhouette from any point of the box: sample points, corners included.
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (const Mesh& mesh : {torus(60, 30), bumpy_sphere(40, 80, 0.1f, 5), hard_mesh()}) {
+    const EdgeMesh m = build_edge_mesh(mesh);
+    const EdgeTree tree(m);
+    for (int trial = 0; trial < 20; ++trial) {
+      const glm::dvec3 lo(4 * u(rng) - 2, 2 + 2 * u(rng), 4 * u(rng) - 2);
+      const glm::dvec3 hi = lo + glm::dvec3(u(rng), 0.5 * u(rng), u(rng)) * (trial % 2 ? 0.1 : 1.5);
+      const Viewpoint a = m.local_point(lo), b = m.local_point(hi);
+      const ViewBox box{{a.x, b.x}, {a.y, b.y}, {a.z, b.z}, 1.0};
+      std::vector<uint8_t> kept(m.edge_count(), 0);
+      tree.candidates(m, box, [&](uint32_t e) { kept[e] = 1; });
+      std::vector<uint8_t> facing;
+      std::vector<uint32_t> sil;
+      for (int k = 0; k < 40; ++k) {
+        glm::dvec3 p;
+        for (int c = 0; c < 3; ++c) p[c] = k < 8 ? ((k >> c) & 1 ? hi[c] : lo[c]) : lo[c] + (hi[c] - lo[c]) * u(rng);
+        brute_force_silhouettes(m, m.local_point(p), facing, sil);
+        for (uint32_t e : sil) ASSERT_TRUE(kept[e]) << mesh.name << " edge " << e;
+      }
+    }
+  }
+}
+
 TEST(EdgeTree, SharpEdgesAreKeptHigh) {
   // Edges stored at an inner node are those whose normals span more than half of its range: on a
   // box with single-edge leaves, the sharp edges stop above the leaves.

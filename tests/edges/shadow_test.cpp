@@ -7,6 +7,7 @@
 #include <random>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <tbb/global_control.h>
 
 #include "edges/scene_edges.h"
 #include "edges/shadow_edges.h"
@@ -343,6 +344,46 @@ glm::dvec3 critical_point(const ShadowEvent& event, const glm::dvec3& x, const g
     c = event.source0 + u * (event.source1 - event.source0);
   }
   return c + 1e-4 * (centroid - c);
+}
+
+TEST(AreaShadows, TreeAndBruteForceFindTheSameEvents) {
+  const AreaSetup s = area_world(true);
+  const Scene& scene = s.world.scene;
+  const SceneEdgeFinder finder(scene);
+  for (uint32_t o : {1u, 2u}) {
+    const uint32_t mesh = scene.objects[o].mesh;
+    BlockerView b{&finder.edge_mesh(mesh), &finder.edge_tree(mesh), glm::dmat4(scene.objects[o].object_to_world), o};
+    std::vector<ShadowEvent> with_tree, brute;
+    find_shadow_events(b, finder.lights()[0], 0, with_tree);
+    b.tree = nullptr;
+    find_shadow_events(b, finder.lights()[0], 0, brute);
+    ASSERT_FALSE(brute.empty());
+    ASSERT_EQ(with_tree.size(), brute.size());
+    for (size_t k = 0; k < brute.size(); ++k) {
+      EXPECT_EQ(with_tree[k].blocker_v0, brute[k].blocker_v0);
+      EXPECT_EQ(with_tree[k].blocker_v1, brute[k].blocker_v1);
+      EXPECT_EQ(with_tree[k].kind, brute[k].kind);
+      EXPECT_EQ(with_tree[k].source0, brute[k].source0);
+    }
+  }
+}
+
+TEST(AreaShadows, SameEdgesWhateverTheThreadCount) {
+  const AreaSetup s = area_world(true);
+  auto run = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    SceneEdgeFinder finder(s.world.scene);
+    std::vector<SceneEdge> edges;
+    finder.shadow_edges(s.world.scene, finder.find_triples(s.world.scene), edges);
+    return edges;
+  };
+  const std::vector<SceneEdge> one = run(1), two = run(2);
+  ASSERT_EQ(one.size(), two.size());
+  for (size_t k = 0; k < one.size(); ++k) {
+    EXPECT_EQ(one[k].a, two[k].a);
+    EXPECT_EQ(one[k].b, two[k].b);
+    EXPECT_EQ(one[k].object, two[k].object);
+  }
 }
 
 // Distance from a point to the nearest edge of a kind on the floor.
