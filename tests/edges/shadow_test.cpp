@@ -132,9 +132,6 @@ double fraction_separating(const World& w, const SceneEdgeFinder& finder, const 
     const bool ok = sees(m + step * across + lift) != sees(m - step * across + lift);
     good += ok;
     ++total;
-    if (!ok && getenv("EDGES_DEBUG"))
-      printf("bad edge recv %u blocker %u len %.4f at %.3f %.3f %.3f sides %d %d\n", e.object, e.blocker, length, m.x, m.y, m.z,
-             int(sees(m + step * across + lift)), int(sees(m + 10 * step * across + lift)));
   }
   return total ? double(good) / total : 0.0;
 }
@@ -164,11 +161,9 @@ double fraction_found(const World& w, const std::vector<SceneEdge>& edges, Sees 
           const double t = std::clamp(glm::dot(p - e.a, d) / std::max(glm::dot(d, d), 1e-300), 0.0, 1.0);
           if (glm::length(p - (e.a + t * d)) < 1.5 * step) {
             ++found;
-            goto next;
+            break;
           }
         }
-        if (getenv("EDGES_DEBUG")) printf("missed change at %.3f %.3f\n", x.x, x.z);
-      next:;
       }
       previous = now;
     }
@@ -462,9 +457,6 @@ TEST(AreaShadows, TorusOnCapsuleUmbraAndPenumbraMeetAtTheContact) {
   int good = 0, total = 0;
   for (const ShadowEdge& e : r.edges) {
     if (e.receiver != 1 || e.blocker != 2) continue;  // the torus's shadow on the capsule
-    if (getenv("EDGES_DEBUG"))
-      printf("%s shape %d  %.3f %.3f %.3f -> %.3f %.3f %.3f\n", e.kind == EventKind::umbral ? "U" : "P", int(r.events[e.event].shape),
-             e.a.x, e.a.y, e.a.z, e.b.x, e.b.y, e.b.z);
     for (int k = 0; k <= 4; ++k) points[e.kind == EventKind::umbral ? 0 : 1].push_back(e.a + (e.b - e.a) * (k / 4.0));
     if (glm::length(e.b - e.a) < 2e-3) continue;
     // Visibility of the event's critical light point changes across the edge.
