@@ -41,12 +41,13 @@ Loaded& loaded(int index) {
 
 constexpr int kPathFrames = 120;
 
-// args: scene index, width, height, mode (0 epi, 1 rendercache)
+// args: scene index, width, height, mode (0 epi, 1 rendercache, 2 epi with core/epi's tiled reconstructor)
 void BM_Frame(benchmark::State& state) {
   Loaded& l = loaded(int(state.range(0)));
   FrameSettings s;
   s.width = int(state.range(1)), s.height = int(state.range(2));
-  s.mode = state.range(3) == 0 ? RenderMode::epi : RenderMode::rendercache;
+  s.mode = state.range(3) == 1 ? RenderMode::rendercache : RenderMode::epi;
+  s.stage_timings = state.range(3) != 2;
   s.sync = true;
   s.sample_budget = 0.01;
   FrameRenderer renderer(l.scene, l.ray_scene, l.shader, s);
@@ -100,7 +101,7 @@ void BM_RaytraceFrame(benchmark::State& state) {
 void frame_args(benchmark::internal::Benchmark* b) {
   for (int scene = 0; scene < 5; ++scene)
     for (auto [w, h] : {std::pair{512, 512}, std::pair{1920, 1080}})
-      for (int mode : {0, 1}) b->Args({scene, w, h, mode});
+      for (int mode : {0, 1, 2}) b->Args({scene, w, h, mode});
 }
 void raytrace_args(benchmark::internal::Benchmark* b) {
   for (int scene = 0; scene < 5; ++scene)

@@ -225,7 +225,13 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   rs.antialias = settings_.antialias;
   rs.complex_filter = settings_.complex_filter;
   ReconstructTimes rt;
-  reconstructor_.run(epi_, masks_, rs, reconstruction_, rt);
+  if (settings_.stage_timings) {
+    reconstructor_.run(epi_, masks_, rs, reconstruction_, rt);
+  } else {
+    const auto tr = Clock::now();
+    reconstruct_tiled(epi_, masks_, rs, Schedule{}, reconstruction_);
+    rt.interpolate = ms_since(tr);
+  }
   stats_.ms.classify = rt.classify, stats_.ms.reachability = rt.reachability, stats_.ms.interpolate = rt.interpolate;
   stats_.ms.antialias = rt.antialias, stats_.ms.complex = rt.complex;
   stats_.pixels = reconstruction_.counts;

@@ -32,6 +32,9 @@ struct FrameSettings {
   bool sync = false;            // shade the budget inside each frame (deterministic for a seed)
   uint64_t seed = 1;            // request jitter (the shader has its own seed)
   bool antialias = true, complex_filter = true;  // epi mode
+  // true: the filters run stage by stage (each timed; StagedReconstructor); false: core/epi's
+  // fused, tiled reconstructor (same image, faster; its time is reported under interpolate).
+  bool stage_timings = true;
   PointCacheSettings cache;
   float predict_share = 0.25f;  // at most this share of the budget goes to predicted gaps
   float predict_frames = 4.0f;  // how far ahead the camera is extrapolated

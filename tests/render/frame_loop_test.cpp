@@ -266,3 +266,26 @@ TEST(FrameLoop, ShadowEdgesMoveWithTheirObject) {
 
 }  // namespace
 }  // namespace epi::render
+
+namespace epi::render {
+namespace {
+
+TEST(FrameLoop, TiledAndStagedReconstructionGiveTheSameFrames) {
+  std::vector<RgbImage> runs;
+  for (bool staged : {true, false}) {
+    Fixture f;
+    FrameSettings s = small_settings(RenderMode::epi);
+    s.stage_timings = staged;
+    FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+    Camera camera = f.scene.cameras[0];
+    for (int k = 0; k < 5; ++k) {
+      camera.eye.y += 0.05f;
+      renderer.render(camera);
+    }
+    runs.push_back(renderer.render(camera));
+  }
+  EXPECT_EQ(runs[0].pixels, runs[1].pixels);
+}
+
+}  // namespace
+}  // namespace epi::render
