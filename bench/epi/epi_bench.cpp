@@ -17,6 +17,7 @@
 #include "epi/antialias.h"
 #include "epi/classify.h"
 #include "epi/complex_filter.h"
+#include "epi/fill.h"
 #include "epi/interpolate.h"
 #include "epi/pattern.h"
 #include "epi/reachability.h"
@@ -35,7 +36,9 @@ struct Frame {
   std::vector<Segment> edges;
   BoundaryMasks masks;
   EpiImage epi;       // classified, with reachability
-  RgbImage interpolated;
+  RgbImage interpolated;          // render cache colours (input of anti-aliasing and complex)
+  RgbImage primary;               // EPI interpolation (input of the fill step)
+  std::vector<uint8_t> found;
   double floor_seconds = 0;  // streaming read+write of the 10-byte pixels, one thread
 };
 
@@ -90,6 +93,14 @@ Frame& frame(int w, int h) {
     sample_pattern(f->pattern, kDensity, 7, f->epi);
     f->interpolated = reconstruct_oracle(f->epi, f->masks, {Filter::rendercache, false, false}).image;
     reconstruct_oracle(f->epi, f->masks, {});
+    f->primary = RgbImage(w, h);
+    f->found.resize(size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        bool found = false;
+        interpolate_pixel(f->epi, x, y, reach_mask(f->epi.cache[f->epi.index(x, y)]), f->primary.at(x, y), &found);
+        f->found[f->epi.index(x, y)] = found;
+      }
     f->floor_seconds = streaming_floor(f->epi);
   }
   return *f;
@@ -186,6 +197,27 @@ void BM_Interpolate(benchmark::State& state) {
   });
 }
 
+void BM_Fill(benchmark::State& state) {
+  Frame& f = frame(int(state.range(0)), int(state.range(1)));
+  const int w = f.epi.width, h = f.epi.height;
+  RgbImage out(w, h);
+  timed(state, f, [&] {
+    run_rows(int(state.range(2)), h, [&](int y0, int y1) {
+      for (int y = y0; y < y1; ++y) {
+        const float* rows[5];
+        const uint8_t* found[5];
+        for (int k = 0; k < 5; ++k) {
+          const int ry = y - 2 + k;
+          rows[k] = ry >= 0 && ry < h ? f.primary.at(0, ry) : nullptr;
+          found[k] = ry >= 0 && ry < h ? &f.found[size_t(ry) * w] : nullptr;
+        }
+        for (int x = 0; x < w; ++x) fill_pixel(x, w, reach_mask(f.epi.cache[f.epi.index(x, y)]), rows, found, out.at(x, y));
+      }
+    });
+    benchmark::DoNotOptimize(out.pixels.data());
+  });
+}
+
 void BM_AntiAlias(benchmark::State& state) {
   Frame& f = frame(int(state.range(0)), int(state.range(1)));
   const int w = f.epi.width, h = f.epi.height;
@@ -240,7 +272,7 @@ void BM_Reconstruct(benchmark::State& state) {
   Reconstruction r;
   timed(state, f, [&] {
     if (threads == 0) r = reconstruct_oracle(epi, f.masks, {});
-    else reconstruct_tiled(epi, f.masks, {}, {32, threads}, r);
+    else reconstruct_tiled(epi, f.masks, {}, {64, threads}, r);
     benchmark::DoNotOptimize(r.image.pixels.data());
   });
 }
@@ -329,6 +361,7 @@ BENCHMARK(BM_Rasterize)->Apply(SizesSerial);
 BENCHMARK(BM_Classify)->Apply(Sizes);
 BENCHMARK(BM_Reachability)->Apply(Sizes);
 BENCHMARK(BM_Interpolate)->Apply(Sizes);
+BENCHMARK(BM_Fill)->Apply(Sizes);
 BENCHMARK(BM_AntiAlias)->Apply(Sizes);
 BENCHMARK(BM_Complex)->Apply(Sizes);
 BENCHMARK(BM_RenderCache)->Apply(Sizes);

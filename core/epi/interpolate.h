@@ -4,7 +4,7 @@
 // unreachable pixels and pixels without a usable sample weigh 0 and the rest are renormalized.
 // Complex pixels use every sample of the 5x5 (the paper's simple estimate). A pixel that
 // reaches no sample falls back to the simple estimate, then to the uniform 7x7 average, and
-// the fill step (below) then replaces that with reachable neighbours' colours where it can.
+// the fill step (fill.h) then replaces that with reachable neighbours' colours where it can.
 #pragma once
 
 #include <cstdint>
@@ -27,12 +27,6 @@ extern const float kInterpolationWeights[25];
 // colour came from reachable samples (complex pixels: from any sample of the 5x5).
 float interpolate_pixel(const EpiImage& epi, int x, int y, uint32_t reach, float rgb[3], bool* found = nullptr);
 
-// The fill step, after interpolation (footprint 5x5 of interpolated colours): a pixel that
-// reached no sample takes the kernel-weighted mean of the primary colours of the reachable
-// pixels of its 5x5 that did; with none, it keeps its fallback colour. rows[k] and found[k]
-// are interpolated row y - 2 + k and its found flags (nullptr outside the image).
-void fill_pixel(int x, int width, uint32_t reach, const float* const rows[5], const uint8_t* const found[5],
-                float out[3]);
 
 // The paper's simple estimate: every sample of the 5x5, same kernel. Returns the total weight.
 float simple_estimate(const EpiImage& epi, int x, int y, float rgb[3]);

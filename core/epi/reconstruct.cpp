@@ -10,6 +10,7 @@
 
 #include "epi/antialias.h"
 #include "epi/complex_filter.h"
+#include "epi/fill.h"
 #include "epi/geometry.h"
 #include "epi/interpolate.h"
 #include "epi/reachability.h"

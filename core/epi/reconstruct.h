@@ -4,7 +4,8 @@
 //   stage            file                footprint (pixels)          reads                  writes
 //   classification   classify.cpp        1x1                         masks, sample          edge code, usable, type
 //   reachability     reachability.cpp    5x5                         types                  24-bit reach mask
-//   interpolation    interpolate.cpp     5x5 (7x7 fallback)          reach, samples         primary colour, priority
+//   interpolation    interpolate.cpp     5x5 (7x7 fallback)          reach, samples         primary colour, found, priority
+//   fill             fill.cpp            5x5                         reach, primary, found  primary colour where none found
 //   render cache     rendercache.cpp     3x3 (7x7 prefilter)         samples                colour, priority
 //   anti-aliasing    antialias.cpp       3x3                         primary colours        output colour
 //   complex pixels   complex_filter.cpp  3x3 (6x6 sub-pixels)        masks, samples, own    output colour
@@ -29,7 +30,7 @@ struct ReconstructSettings {
 
 // How the tiled reconstructor splits the work (measured defaults: docs/performance.md).
 struct Schedule {
-  int rows_per_band = 16;  // rows per parallel task (BM_ReconstructBandRows)
+  int rows_per_band = 64;  // rows per parallel task (BM_ReconstructBandRows)
   int threads = 0;         // 0: all cores
 };
 
