@@ -370,7 +370,9 @@ TEST(Malformed, SubdivisionRequests) {
   expect_error(with_subdivision({{"creases", {{0, 1}}}}).write_gltf(dir / "s.gltf"), "creases[0]");
   expect_error(with_subdivision({{"creases", {{0, 9, 2.0}}}}).write_gltf(dir / "s.gltf"), "crease vertex 9 out of range");
   expect_error(with_subdivision({{"creases", {{0, 1, -1.0}}}}).write_gltf(dir / "s.gltf"), "sharpness");
-  expect_error(with_subdivision({{"quads", true}, {"creases", {{0, 2, 1.0}}}}).write_gltf(dir / "s.gltf"), "mesh 'quad' primitive 0: subdivision failed: ");  // the cage check names the crease
+  // A crease on the quad's diagonal, which is no edge of the cage: subdivide() refuses it.
+  expect_error(with_subdivision({{"quads", true}, {"creases", {{0, 2, 1.0}}}}).write_gltf(dir / "s.gltf"),
+               "mesh 'quad' primitive 0: subdivision failed: ");
   expect_error(with_subdivision("yes").write_gltf(dir / "s.gltf"), "extras.epi.subdivision: expected an object");
   // A request that would exhaust memory: 1000 quads at level 8.
   GltfBuilder big = valid_scene();
