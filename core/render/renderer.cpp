@@ -72,7 +72,8 @@ void FrameRenderer::apply_transforms(std::span<const glm::mat4> object_to_world)
       ray_scene_.set_object_transform(o, object_to_world[o]);
     }
   }
-  // Requests shaded against the old placement would put points in the wrong place.
+  // Results shaded against the old placement would put points in the wrong place.
+  if (moved) ++placement_;
   if (moved && async_) async_->cancel_pending();
 }
 
@@ -87,7 +88,7 @@ void FrameRenderer::integrate(const ShadeBatch& batch) {
     size_t end = begin + 1;
     if (shot != shots_.end())
       while (end < batch.results.size() && batch.results[end].id - shot->first_id < shot->count) ++end;
-    if (shot != shots_.end()) {
+    if (shot != shots_.end() && shot->placement == placement_) {
       if (finder_ && settings_.shadow_edges)
         for (size_t k = begin; k < end; ++k)
           for (const BlockerTriple& t : batch.triples_of(batch.results[k]))
@@ -133,7 +134,7 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
   for (NewShot& s : shots) {
     for (ShadeRequest& r : s.requests) r.id = next_id_++;
     stats_.requested += s.requests.size();
-    shots_.push_back({s.requests.empty() ? next_id_ : s.requests.front().id, uint32_t(s.requests.size()), s.frame});
+    shots_.push_back({s.requests.empty() ? next_id_ : s.requests.front().id, uint32_t(s.requests.size()), s.frame, placement_});
   }
   while (shots_.size() > 32) shots_.pop_front();
   return shots;

@@ -94,9 +94,10 @@ class FrameRenderer {
   int frame() const { return frame_; }
 
  private:
-  struct Shot {  // a batch of requests and the view they were made for
+  struct Shot {  // a batch of requests, the view they were made for, and the object placement
     uint32_t first_id = 0, count = 0;
     ViewFrame frame;
+    uint32_t placement = 0;  // placement_ when submitted
   };
   struct NewShot {
     ViewFrame frame;
@@ -120,6 +121,7 @@ class FrameRenderer {
   Reconstruction reconstruction_;
   std::vector<glm::mat4> transforms_;
   std::deque<Shot> shots_;
+  uint32_t placement_ = 0;  // counts object moves; results shaded before a move are dropped
   uint32_t next_id_ = 0;
   std::unique_ptr<Camera> previous_camera_;
   // epi mode: the edge finder sees a light copy of the scene (objects, lights) placed as now.

@@ -289,3 +289,47 @@ TEST(FrameLoop, TiledAndStagedReconstructionGiveTheSameFrames) {
 
 }  // namespace
 }  // namespace epi::render
+
+namespace epi::render {
+namespace {
+
+// Asynchronous shading while the box slides: once it stops, every point drawn as the box lies on
+// the box where it now is (results shaded for an old placement were dropped, not misplaced).
+TEST(FrameLoop, AsyncResultsFromAnOldPlacementAreDropped) {
+  Fixture f;
+  FrameSettings s = small_settings(RenderMode::epi, false);
+  s.sample_budget = 0.1;
+  FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+  const Camera camera = f.scene.cameras[0];
+  std::vector<glm::mat4> transforms = {glm::mat4(1.0f), glm::mat4(1.0f)};
+  for (int k = 0; k < 30; ++k) {
+    transforms[1] = glm::translate(glm::mat4(1.0f), glm::vec3(0.05f * float(k), 0.0f, 0.0f));
+    renderer.render(camera, transforms);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  for (int k = 0; k < 20; ++k) {
+    renderer.render(camera, transforms);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  // The reference geometry: the box at its final place.
+  Fixture moved;
+  moved.ray_scene.set_object_transform(1, transforms[1]);
+  View view;
+  view.camera = camera, view.width = 64, view.height = 64;
+  const ViewFrame frame(view);
+  size_t box_points = 0, misplaced = 0;
+  for (const CachePoint& p : renderer.cache().points()) {
+    if (!p.valid || p.object != 1) continue;
+    const glm::vec3 world = renderer.cache().world_position(p, frame, transforms);
+    const glm::vec3 local = glm::vec3(glm::inverse(transforms[1]) * glm::vec4(world, 1.0f));
+    // On the surface of the box [-0.8, 0.8]^2 x [0, 1.6] (object space).
+    const float inside = std::max({std::abs(local.x) - 0.8f, std::abs(local.y) - 0.8f, std::abs(local.z - 0.8f) - 0.8f});
+    ++box_points;
+    misplaced += std::abs(inside) > 1e-3f;
+  }
+  EXPECT_GT(box_points, 50u);
+  EXPECT_EQ(misplaced, 0u);
+}
+
+}  // namespace
+}  // namespace epi::render
