@@ -47,7 +47,40 @@ bool in_shadow_cone(const glm::dvec3& apex, double light_radius, const Sphere& b
 
 bool same_light(const EdgeLight& a, const EdgeLight& b) {
   return a.type == b.type && a.position == b.position && a.direction == b.direction && a.outlines == b.outlines &&
-         a.object == b.object;
+         a.object == b.object && a.cone_cos == b.cone_cos;
+}
+
+// The parts of a shadow edge inside a spot light's cone (nothing outside it is lit, so nothing
+// there is a shadow boundary): the cone test along the segment is a quadratic in its parameter.
+void clip_to_cone(const ShadowEdge& edge, const EdgeLight& light, std::vector<ShadowEdge>& out) {
+  if (light.cone_cos <= 0.0) {  // no cone, or one wider than a half-space: keep as is
+    out.push_back(edge);
+    return;
+  }
+  const glm::dvec3 q0 = edge.a - light.position, dq = edge.b - edge.a;
+  const double c2 = light.cone_cos * light.cone_cos;
+  const double a0 = glm::dot(light.direction, q0), a1 = glm::dot(light.direction, dq);
+  // g(s) = (dir . q)^2 - c^2 |q|^2 = A s^2 + B s + C
+  const double A = a1 * a1 - c2 * glm::dot(dq, dq), B = 2.0 * (a0 * a1 - c2 * glm::dot(q0, dq)),
+               C = a0 * a0 - c2 * glm::dot(q0, q0);
+  std::vector<double> cuts = {0.0, 1.0};
+  if (A != 0.0) {
+    const double disc = B * B - 4.0 * A * C;
+    if (disc >= 0.0)
+      for (double r : {(-B - std::sqrt(disc)) / (2.0 * A), (-B + std::sqrt(disc)) / (2.0 * A)})
+        if (r > 0.0 && r < 1.0) cuts.push_back(r);
+  } else if (B != 0.0 && -C / B > 0.0 && -C / B < 1.0) {
+    cuts.push_back(-C / B);
+  }
+  std::sort(cuts.begin(), cuts.end());
+  for (size_t i = 0; i + 1 < cuts.size(); ++i) {
+    const double m = 0.5 * (cuts[i] + cuts[i + 1]);
+    if (a0 + m * a1 < 0.0 || (A * m + B) * m + C < 0.0) continue;
+    ShadowEdge piece = edge;
+    piece.a = edge.a + cuts[i] * dq, piece.b = edge.a + cuts[i + 1] * dq;
+    if (!out.empty() && out.back().b == piece.a && out.back().event == piece.event) out.back().b = piece.b;
+    else out.push_back(piece);
+  }
 }
 
 double ms_since(std::chrono::steady_clock::time_point start) {
@@ -68,6 +101,7 @@ std::vector<EdgeLight> SceneEdgeFinder::scene_lights(const Scene& scene, std::ve
     l.type = p.type == LightType::directional ? EdgeLight::Type::directional : EdgeLight::Type::point;
     l.position = p.position;
     l.direction = glm::normalize(glm::dvec3(p.direction));
+    if (p.type == LightType::spot) l.cone_cos = p.outer_cone_cos;
     lights.push_back(l);
     if (names) names->push_back(p.name);
   }
@@ -235,7 +269,8 @@ void SceneEdgeFinder::shadow_edges(const Scene& scene, std::span<const LightBloc
         for (size_t e = range.begin(); e != range.end(); ++e)
           shadow_edges_of_event(events[e], uint32_t(e), receivers, per_event[e]);
       });
-      for (auto& list : per_event) state.edges.insert(state.edges.end(), list.begin(), list.end());
+      for (auto& list : per_event)
+        for (const ShadowEdge& e : list) clip_to_cone(e, state.light, state.edges);
     }
     next[{l, b}] = std::move(state);
   }

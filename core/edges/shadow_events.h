@@ -47,7 +47,8 @@ struct BlockerView {
 struct EdgeLight {
   enum class Type { point, directional, area } type = Type::point;
   glm::dvec3 position{0.0};               // point and spot
-  glm::dvec3 direction{0.0, 0.0, -1.0};   // directional: the way the light travels
+  glm::dvec3 direction{0.0, 0.0, -1.0};   // directional: the way the light travels; spot: where it points
+  double cone_cos = -2.0;                 // spot: cosine of the outer cone angle; below -1: no cone
   std::vector<std::vector<glm::dvec3>> outlines;  // area: polygon loops
   uint32_t object = kNone;                // area: the emitting object (never a blocker of itself)
 };

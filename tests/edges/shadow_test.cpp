@@ -211,6 +211,41 @@ TEST(HardShadows, DirectionalLight) {
   EXPECT_GT(fraction_found(w, edges, sees, 150), 0.97);
 }
 
+TEST(HardShadows, SpotLightEdgesStayInsideItsCone) {
+  World w = hard_shadow_world();
+  PunctualLight light;
+  light.type = LightType::spot;
+  light.position = {0.7f, 5.0f, 0.3f};
+  light.direction = {0, -1, 0};
+  light.outer_cone_cos = std::cos(glm::radians(22.0f));  // about 2 m across on the floor: cuts the box's shadow
+  w.scene.punctual_lights.push_back(light);
+  SceneEdgeFinder finder(w.scene);
+  std::vector<SceneEdge> spot;
+  finder.shadow_edges(w.scene, finder.find_triples(w.scene), spot);
+  w.scene.punctual_lights[0].type = LightType::point;
+  SceneEdgeFinder point_finder(w.scene);
+  std::vector<SceneEdge> point;
+  point_finder.shadow_edges(w.scene, point_finder.find_triples(w.scene), point);
+  auto inside = [&](const glm::dvec3& p) {
+    return glm::dot(glm::normalize(p - glm::dvec3(light.position)), glm::dvec3(0, -1, 0)) >= light.outer_cone_cos - 1e-9;
+  };
+  ASSERT_GT(spot.size(), 50u);
+  double spot_length = 0.0, point_inside_length = 0.0;
+  for (const SceneEdge& e : spot) {
+    EXPECT_TRUE(inside(e.a) && inside(e.b));
+    spot_length += glm::length(e.b - e.a);
+  }
+  int outside = 0;
+  for (const SceneEdge& e : point) {
+    outside += !inside(e.a) || !inside(e.b);
+    const int steps = 200;  // length of the point light's edges inside the cone, by sampling
+    for (int k = 0; k < steps; ++k)
+      if (inside(e.a + (e.b - e.a) * ((k + 0.5) / steps))) point_inside_length += glm::length(e.b - e.a) / steps;
+  }
+  EXPECT_GT(outside, 10);
+  EXPECT_NEAR(spot_length, point_inside_length, 0.01 * point_inside_length);
+}
+
 TEST(HardShadows, NearerReceiverClipsTheEvent) {
   // A small plate between the sphere and the floor: the sphere's shadow edges stop on the plate
   // wherever the plate is in the way.
