@@ -64,8 +64,9 @@ void check_buffer_view(const tinygltf::Model& model, int index) {
   const size_t buffer_bytes = model.buffers[size_t(view.buffer)].data.size();
   if (uint64_t(view.byteOffset) + view.byteLength > buffer_bytes)
     throw std::runtime_error(name + ": bytes " + std::to_string(view.byteOffset) + ".." +
-                             std::to_string(uint64_t(view.byteOffset) + view.byteLength) + " lie past the end of buffer " +
-                             std::to_string(view.buffer) + " (" + std::to_string(buffer_bytes) + " bytes)");
+                             std::to_string(uint64_t(view.byteOffset) + view.byteLength) +
+                             " lie past the end of buffer " + std::to_string(view.buffer) + " (" +
+                             std::to_string(buffer_bytes) + " bytes)");
   if (view.byteStride != 0 && (view.byteStride < 4 || view.byteStride > 252 || view.byteStride % 4 != 0))
     throw std::runtime_error(name + ": byteStride " + std::to_string(view.byteStride) +
                              " must be a multiple of 4 in [4, 252]");
@@ -91,10 +92,14 @@ std::vector<uint32_t> read_indices(const tinygltf::Model& model, int index) {
                             ? model.accessors[size_t(index)].componentType
                             : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
   size_t bytes = 0;
-  if (component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) bytes = 1;
-  else if (component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) bytes = 2;
-  else if (component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) bytes = 4;
-  else fail(index, "indices must be unsigned byte, short or int (componentType " + std::to_string(component) + ")");
+  if (component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE)
+    bytes = 1;
+  else if (component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)
+    bytes = 2;
+  else if (component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+    bytes = 4;
+  else
+    fail(index, "indices must be unsigned byte, short or int (componentType " + std::to_string(component) + ")");
   const ElementView view = view_accessor(model, index, TINYGLTF_TYPE_SCALAR, bytes);
   std::vector<uint32_t> values(view.count);
   for (size_t i = 0; i < view.count; ++i) {

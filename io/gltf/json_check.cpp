@@ -32,8 +32,8 @@ struct Schema {
 
 // Bottom-up, so that every nested schema exists before it is referenced.
 const Schema kIndexMap{{}, Type::index};
-const Schema kTextureInfo{{{"index", Type::index}, {"texCoord", Type::index}, {"scale", Type::number},
-                           {"strength", Type::number}}};
+const Schema kTextureInfo{
+    {{"index", Type::index}, {"texCoord", Type::index}, {"scale", Type::number}, {"strength", Type::number}}};
 const Schema kPbr{{{"baseColorFactor", Type::number_array, nullptr, 4},
                    {"baseColorTexture", Type::object, &kTextureInfo},
                    {"metallicFactor", Type::number},
@@ -65,9 +65,8 @@ const Schema kNode{{{"camera", Type::index},
 const Schema kScene{{{"nodes", Type::index_array}}};
 const Schema kSparseIndices{{{"bufferView", Type::index}, {"byteOffset", Type::index}, {"componentType", Type::index}}};
 const Schema kSparseValues{{{"bufferView", Type::index}, {"byteOffset", Type::index}}};
-const Schema kSparse{{{"count", Type::index},
-                      {"indices", Type::object, &kSparseIndices},
-                      {"values", Type::object, &kSparseValues}}};
+const Schema kSparse{
+    {{"count", Type::index}, {"indices", Type::object, &kSparseIndices}, {"values", Type::object, &kSparseValues}}};
 const Schema kAccessor{{{"bufferView", Type::index},
                         {"byteOffset", Type::index},
                         {"componentType", Type::index},
@@ -83,24 +82,26 @@ const Schema kBufferView{{{"buffer", Type::index},
                           {"byteStride", Type::index},
                           {"target", Type::index}}};
 const Schema kBuffer{{{"uri", Type::string}, {"byteLength", Type::index}}};
-const Schema kPerspective{{{"aspectRatio", Type::number}, {"yfov", Type::number}, {"zfar", Type::number},
-                           {"znear", Type::number}}};
-const Schema kOrthographic{{{"xmag", Type::number}, {"ymag", Type::number}, {"zfar", Type::number},
-                            {"znear", Type::number}}};
+const Schema kPerspective{
+    {{"aspectRatio", Type::number}, {"yfov", Type::number}, {"zfar", Type::number}, {"znear", Type::number}}};
+const Schema kOrthographic{
+    {{"xmag", Type::number}, {"ymag", Type::number}, {"zfar", Type::number}, {"znear", Type::number}}};
 const Schema kCamera{{{"type", Type::string},
                       {"perspective", Type::object, &kPerspective},
                       {"orthographic", Type::object, &kOrthographic}}};
 const Schema kImage{{{"uri", Type::string}, {"mimeType", Type::string}, {"bufferView", Type::index}}};
 const Schema kTexture{{{"sampler", Type::index}, {"source", Type::index}}};
-const Schema kSampler{{{"magFilter", Type::index}, {"minFilter", Type::index}, {"wrapS", Type::index},
-                       {"wrapT", Type::index}}};
+const Schema kSampler{
+    {{"magFilter", Type::index}, {"minFilter", Type::index}, {"wrapS", Type::index}, {"wrapT", Type::index}}};
 const Schema kSkin{{{"inverseBindMatrices", Type::index}, {"skeleton", Type::index}, {"joints", Type::index_array}}};
 const Schema kChannelTarget{{{"node", Type::index}, {"path", Type::string}}};
 const Schema kChannel{{{"sampler", Type::index}, {"target", Type::object, &kChannelTarget}}};
 const Schema kAnimationSampler{{{"input", Type::index}, {"interpolation", Type::string}, {"output", Type::index}}};
-const Schema kAnimation{{{"channels", Type::object_array, &kChannel},
-                         {"samplers", Type::object_array, &kAnimationSampler}}};
-const Schema kAsset{{{"version", Type::string}, {"generator", Type::string}, {"copyright", Type::string},
+const Schema kAnimation{
+    {{"channels", Type::object_array, &kChannel}, {"samplers", Type::object_array, &kAnimationSampler}}};
+const Schema kAsset{{{"version", Type::string},
+                     {"generator", Type::string},
+                     {"copyright", Type::string},
                      {"minVersion", Type::string}}};
 const Schema kRoot{{{"asset", Type::object, &kAsset},
                     {"scene", Type::index},
@@ -135,7 +136,6 @@ const std::map<std::string, const Schema*> kKnownExtensions{{"KHR_lights_punctua
 [[noreturn]] void fail(const std::string& path, const std::string& problem) {
   throw std::runtime_error(path + ": " + problem);
 }
-
 
 bool is_index(const json& v) {
   // glTF indices and counts: non-negative integers that fit tinygltf's int.
@@ -253,7 +253,8 @@ std::string describe_json(const json& value) {
 
 void check_json_types(const json& document) {
   check_depth(document);
-  if (!document.is_object()) fail("JSON", std::string("the document must be an object, got ") + describe_json(document));
+  if (!document.is_object())
+    fail("JSON", std::string("the document must be an object, got ") + describe_json(document));
   check_object(document, kRoot, "");
 }
 

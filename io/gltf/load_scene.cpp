@@ -31,8 +31,8 @@ namespace epi {
 
 namespace {
 
-using nlohmann::json;
 using gltf::describe_json;
+using nlohmann::json;
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxSubdivisionLevel = 8;
@@ -147,8 +147,8 @@ tinygltf::Model parse_with_tinygltf(const FileContents& contents, const std::fil
     ok = loader.LoadBinaryFromMemory(&model, &err, &warn, contents.bytes.data(), unsigned(contents.bytes.size()),
                                      base_dir);
   else
-    ok = loader.LoadASCIIFromString(&model, &err, &warn, contents.json_text.data(),
-                                    unsigned(contents.json_text.size()), base_dir);
+    ok = loader.LoadASCIIFromString(&model, &err, &warn, contents.json_text.data(), unsigned(contents.json_text.size()),
+                                    base_dir);
   if (!ok || !err.empty()) {
     std::string problem = one_line(err.empty() ? "tinygltf could not load the file" : err);
     if (problem.size() > 240) problem = problem.substr(0, 240) + "...";  // it may quote a whole data: URI
@@ -197,7 +197,8 @@ void check_accessors(const tinygltf::Model& model) {
     const tinygltf::Accessor& a = model.accessors[i];
     const std::string where = "accessor " + std::to_string(i);
     const size_t element = component_bytes(a.componentType) * type_components(a.type);
-    if (component_bytes(a.componentType) == 0) fail(where + ": invalid componentType " + std::to_string(a.componentType));
+    if (component_bytes(a.componentType) == 0)
+      fail(where + ": invalid componentType " + std::to_string(a.componentType));
     if (type_components(a.type) == 0) fail(where + ": invalid type");
     if (a.bufferView < 0 || a.count == 0) continue;
     check_index(a.bufferView, model.bufferViews.size(), "buffer view", where);
@@ -269,7 +270,8 @@ void check_model(const tinygltf::Model& model) {
       for (const auto& target : primitive.targets)
         for (const auto& [name, accessor] : target)
           check_index(accessor, model.accessors.size(), "accessor", where + " morph target " + name);
-      if (primitive.indices != -1) check_index(primitive.indices, model.accessors.size(), "accessor", where + " indices");
+      if (primitive.indices != -1)
+        check_index(primitive.indices, model.accessors.size(), "accessor", where + " indices");
       if (primitive.material != -1) check_index(primitive.material, model.materials.size(), "material", where);
     }
   }
@@ -314,7 +316,8 @@ std::vector<NodeVisit> walk_scene(const tinygltf::Model& model, const tinygltf::
   std::vector<bool> seen(model.nodes.size(), false);
   for (auto root = scene.nodes.rbegin(); root != scene.nodes.rend(); ++root) {
     if (parent[size_t(*root)] != -1)
-      fail("scene root node " + std::to_string(*root) + " is the child of node " + std::to_string(parent[size_t(*root)]));
+      fail("scene root node " + std::to_string(*root) + " is the child of node " +
+           std::to_string(parent[size_t(*root)]));
     stack.push_back({size_t(*root), glm::dmat4(1.0)});
   }
   while (!stack.empty()) {
@@ -382,8 +385,8 @@ struct MeshRequest {
   float sharp_angle_degrees = 85.0f;
 };
 
-const json& member(const json& object, const char* key, const std::string& where, bool (json::*is_type)() const noexcept,
-                   const char* type_name) {
+const json& member(const json& object, const char* key, const std::string& where,
+                   bool (json::*is_type)() const noexcept, const char* type_name) {
   const json& value = object[key];
   if (!(value.*is_type)()) fail(where + "." + key + ": expected " + type_name + ", got " + describe_json(value));
   return value;
@@ -398,7 +401,8 @@ MeshRequest read_mesh_request(const json& mesh_json, const std::string& where_me
   if (!epi.is_object()) fail(where + ": expected an object, got " + describe_json(epi));
   if (epi.contains("sharp_angle")) {
     const double angle = member(epi, "sharp_angle", where, &json::is_number, "a number").get<double>();
-    if (!(angle >= 0.0 && angle <= 180.0)) fail(where + ".sharp_angle: " + std::to_string(angle) + " is outside [0, 180]");
+    if (!(angle >= 0.0 && angle <= 180.0))
+      fail(where + ".sharp_angle: " + std::to_string(angle) + " is outside [0, 180]");
     request.sharp_angle_degrees = float(angle);
   }
   if (!epi.contains("subdivision")) return request;
@@ -407,9 +411,12 @@ MeshRequest read_mesh_request(const json& mesh_json, const std::string& where_me
   request.subdivide = true;
   if (sub.contains("scheme")) {
     const std::string scheme = member(sub, "scheme", sub_where, &json::is_string, "a string").get<std::string>();
-    if (scheme == "catmull-clark") request.scheme = SubdivisionScheme::catmull_clark;
-    else if (scheme == "loop") request.scheme = SubdivisionScheme::loop;
-    else fail(sub_where + ".scheme: unknown scheme '" + scheme + "' (catmull-clark or loop)");
+    if (scheme == "catmull-clark")
+      request.scheme = SubdivisionScheme::catmull_clark;
+    else if (scheme == "loop")
+      request.scheme = SubdivisionScheme::loop;
+    else
+      fail(sub_where + ".scheme: unknown scheme '" + scheme + "' (catmull-clark or loop)");
   }
   if (sub.contains("level")) {
     const json& level = sub["level"];
@@ -419,7 +426,8 @@ MeshRequest read_mesh_request(const json& mesh_json, const std::string& where_me
     request.level = level.get<int>();
   }
   if (options.subdiv_level_override >= 0) request.level = options.subdiv_level_override;
-  if (sub.contains("quads")) request.quads = member(sub, "quads", sub_where, &json::is_boolean, "a boolean").get<bool>();
+  if (sub.contains("quads"))
+    request.quads = member(sub, "quads", sub_where, &json::is_boolean, "a boolean").get<bool>();
   if (request.quads && request.scheme == SubdivisionScheme::loop)
     fail(sub_where + ": the loop scheme needs triangles, not quads");
   if (sub.contains("creases")) {
@@ -431,8 +439,7 @@ MeshRequest read_mesh_request(const json& mesh_json, const std::string& where_me
           !c[2].is_number() || c[0].get<uint64_t>() > 0xfffffffeu || c[1].get<uint64_t>() > 0xfffffffeu)
         fail(crease_where + ": expected [vertex, vertex, sharpness], got " + one_line(c.dump()).substr(0, 60));
       const double sharpness = c[2].get<double>();
-      if (!(sharpness >= 0.0) || !std::isfinite(sharpness))
-        fail(crease_where + ": sharpness must be finite and >= 0");
+      if (!(sharpness >= 0.0) || !std::isfinite(sharpness)) fail(crease_where + ": sharpness must be finite and >= 0");
       request.creases.push_back({c[0].get<uint32_t>(), c[1].get<uint32_t>(), float(std::min(sharpness, 10.0))});
     }
   }
@@ -449,7 +456,8 @@ struct PrimitiveData {
   std::vector<uint32_t> corners;   // 3 per triangle
 };
 
-PrimitiveData read_primitive(const tinygltf::Model& model, const tinygltf::Primitive& primitive, const std::string& where) {
+PrimitiveData read_primitive(const tinygltf::Model& model, const tinygltf::Primitive& primitive,
+                             const std::string& where) {
   PrimitiveData data;
   const auto position = primitive.attributes.find("POSITION");
   if (position == primitive.attributes.end()) fail(where + ": no POSITION attribute");
@@ -483,7 +491,8 @@ PrimitiveData read_primitive(const tinygltf::Model& model, const tinygltf::Primi
         data.corners.insert(data.corners.end(), {indices[i], indices[i + (odd ? 2 : 1)], indices[i + (odd ? 1 : 2)]});
       }
     } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
-      for (size_t i = 1; i + 1 < n; ++i) data.corners.insert(data.corners.end(), {indices[i], indices[i + 1], indices[0]});
+      for (size_t i = 1; i + 1 < n; ++i)
+        data.corners.insert(data.corners.end(), {indices[i], indices[i + 1], indices[0]});
     } else if (mode >= 0 && mode <= 3) {
       fail(std::string("primitive mode ") + std::to_string(mode) + " (points or lines) is not supported");
     } else {
@@ -556,14 +565,17 @@ ControlMesh build_cage(const PrimitiveData& data, const MeshRequest& request, co
       add_face({a[0], a[1], a[2], b[2]});
     }
   } else {
-    for (size_t t = 0; t < triangles; ++t) add_face({data.corners[3 * t], data.corners[3 * t + 1], data.corners[3 * t + 2]});
+    for (size_t t = 0; t < triangles; ++t)
+      add_face({data.corners[3 * t], data.corners[3 * t + 1], data.corners[3 * t + 2]});
   }
   for (const Crease& crease : request.creases) {
     if (crease.v0 >= data.positions.size() || crease.v1 >= data.positions.size())
       fail(where + ": crease vertex " + std::to_string(std::max(crease.v0, crease.v1)) + " out of range (" +
            std::to_string(data.positions.size()) + " vertices)");
     const uint32_t v0 = weld.remap[crease.v0], v1 = weld.remap[crease.v1];
-    if (v0 == v1) fail(where + ": crease (" + std::to_string(crease.v0) + ", " + std::to_string(crease.v1) + ") joins a vertex to itself");
+    if (v0 == v1)
+      fail(where + ": crease (" + std::to_string(crease.v0) + ", " + std::to_string(crease.v1) +
+           ") joins a vertex to itself");
     cage.creases.push_back({v0, v1, crease.sharpness});
   }
   return cage;
@@ -711,14 +723,20 @@ PunctualLight convert_light(const json& source, size_t light_index, const tinygl
   if (light.name.empty()) light.name = !node.name.empty() ? node.name : where;
   if (!source.contains("type")) fail(where + ": no type");
   const std::string type = source["type"].get<std::string>();
-  if (type == "point") light.type = LightType::point;
-  else if (type == "spot") light.type = LightType::spot;
-  else if (type == "directional") light.type = LightType::directional;
-  else fail(where + ": unknown light type '" + type + "'");
+  if (type == "point")
+    light.type = LightType::point;
+  else if (type == "spot")
+    light.type = LightType::spot;
+  else if (type == "directional")
+    light.type = LightType::directional;
+  else
+    fail(where + ": unknown light type '" + type + "'");
   glm::dvec3 color(1.0);
-  if (source.contains("color")) color = glm::dvec3(source["color"][0].get<double>(), source["color"][1].get<double>(),
-                                                   source["color"][2].get<double>());
-  if (!finite(color) || color.x < 0.0 || color.y < 0.0 || color.z < 0.0) fail(where + ": color must be finite and >= 0");
+  if (source.contains("color"))
+    color = glm::dvec3(source["color"][0].get<double>(), source["color"][1].get<double>(),
+                       source["color"][2].get<double>());
+  if (!finite(color) || color.x < 0.0 || color.y < 0.0 || color.z < 0.0)
+    fail(where + ": color must be finite and >= 0");
   const double intensity = source.value("intensity", 1.0);
   if (!(intensity >= 0.0) || !std::isfinite(intensity)) fail(where + ": intensity must be finite and >= 0");
   if (!finite(color * intensity)) fail(where + ": color * intensity is not finite");
@@ -787,7 +805,8 @@ std::vector<Camera> read_camera_path(const json& document, float znear) {
     if (entry.contains("yfov")) {
       if (!entry["yfov"].is_number()) fail(where + ".yfov: expected a number, got " + describe_json(entry["yfov"]));
       camera.yfov_degrees = entry["yfov"].get<float>();
-      if (!(camera.yfov_degrees > 0.0f && camera.yfov_degrees < 180.0f)) fail(where + ".yfov: must be in (0, 180) degrees");
+      if (!(camera.yfov_degrees > 0.0f && camera.yfov_degrees < 180.0f))
+        fail(where + ".yfov: must be in (0, 180) degrees");
     }
     const glm::vec3 forward = camera.target - camera.eye;
     if (!(glm::length(forward) > 0.0f)) fail(where + ": eye and target coincide");
@@ -832,7 +851,8 @@ Scene load(const std::filesystem::path& file, const LoadOptions& options) {
     const json& nodes = document["nodes"];
     for (size_t i = 0; i < nodes.size(); ++i) {  // tinygltf drops TRS silently when a matrix is present
       const json& node = nodes[i];
-      if (node.contains("matrix") && (node.contains("translation") || node.contains("rotation") || node.contains("scale")))
+      if (node.contains("matrix") &&
+          (node.contains("translation") || node.contains("rotation") || node.contains("scale")))
         fail("node " + std::to_string(i) + " has both a matrix and translation/rotation/scale");
     }
   }
@@ -922,10 +942,12 @@ Scene load(const std::filesystem::path& file, const LoadOptions& options) {
     const json& node_json = document["nodes"][visit.node];
     if (node_json.contains("extensions") && node_json["extensions"].contains("KHR_lights_punctual")) {
       const json& reference = node_json["extensions"]["KHR_lights_punctual"];
-      if (!reference.contains("light")) fail("node " + std::to_string(visit.node) + ": KHR_lights_punctual without light");
+      if (!reference.contains("light"))
+        fail("node " + std::to_string(visit.node) + ": KHR_lights_punctual without light");
       const int light = reference["light"].get<int>();
       check_index(light, lights_json.size(), "light", "node " + std::to_string(visit.node));
-      scene.punctual_lights.push_back(convert_light(lights_json[size_t(light)], size_t(light), node, visit.world, visit.node));
+      scene.punctual_lights.push_back(
+          convert_light(lights_json[size_t(light)], size_t(light), node, visit.world, visit.node));
     }
   }
   const Bounds bounds = scene.world_bounds();
