@@ -211,7 +211,9 @@ int run_render_frames(const RenderOptions& options) {
         {"seed", options.seed},
         {"threads", threads},
         {"triangles", scene.triangle_count()},
-        {"camera_path", options.camera_path.empty() ? (scene.camera_path.empty() ? "still" : "scene") : options.camera_path},
+        {"camera_path", !options.camera_path.empty()            ? options.camera_path
+                        : has_camera_override(options.camera) || scene.camera_path.empty() ? std::string("still")
+                                                                                          : std::string("scene")},
         {"stages_ms",
          {{"find_edges", median(series.find_edges)},
           {"rasterize_edges", median(series.rasterize_edges)},
