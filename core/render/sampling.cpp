@@ -30,14 +30,17 @@ std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, 
   auto weight = [&](size_t i) { return uniform ? 1.0f : std::max(0.0f, priority[i]); };
   double scale = double(count) / (uniform ? double(pixels) : total);
 
-  // Floyd-Steinberg over the scaled priority, serpentine rows, two rows of error. The value at
-  // the decision is kept: it ranks pixels when the count is settled. The error leaving the image
-  // makes the count drift a little, so the scale is corrected and the dither rerun (at most twice).
+  // Floyd-Steinberg over the scaled priority, serpentine rows, two rows of error; error pushed
+  // past a row's end goes to the next row's end pixel, so only the last row's error leaves the
+  // image. The value at the decision is kept: it ranks pixels when the count is settled. If the
+  // count still drifts by more than 1%, the scale is corrected and the dither rerun (at most twice).
   std::vector<float> err_row(size_t(width) + 2), err_next(size_t(width) + 2), decision(pixels);
   std::vector<uint8_t> chosen(pixels);
   size_t chosen_count = 0;
   for (int pass = 0; pass < 3; ++pass) {
-    std::fill(err_row.begin(), err_row.end(), 0.0f);
+    // The first row starts with a little error (a fixed hash pattern in [0, 1/2)): without it
+    // the first rows stay empty until error has accumulated.
+    for (size_t x = 0; x < err_row.size(); ++x) err_row[x] = 0.5f * unit_float(splitmix64(x));
     std::fill(chosen.begin(), chosen.end(), uint8_t(0));
     chosen_count = 0;
     for (int y = 0; y < height; ++y) {
@@ -57,6 +60,10 @@ std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, 
         err_next[size_t(x + 1)] += e * (5.0f / 16.0f);
         err_next[size_t(x + 1 + dir)] += e * (1.0f / 16.0f);
       }
+      // Error pushed past the row's ends stays in the image: into the next row's end pixels.
+      err_next[1] += err_next[0] + (forward ? 0.0f : err_row[0]);
+      err_next[size_t(width)] += err_next[size_t(width) + 1] + (forward ? err_row[size_t(width) + 1] : 0.0f);
+      err_next[0] = err_next[size_t(width) + 1] = 0.0f;
       std::swap(err_row, err_next);
     }
     const double drift = std::abs(double(chosen_count) - double(count));
