@@ -784,17 +784,25 @@ glm::vec3 read_vec3_json(const json& object, const char* key, const std::string&
   return glm::vec3(d);
 }
 
-std::vector<Camera> read_camera_path(const json& document, float znear) {
+// True when `holder` (a glTF object) carries extras.epi.camera_path.
+bool has_camera_path(const json& holder) {
+  return holder.is_object() && holder.contains("extras") && holder["extras"].is_object() &&
+         holder["extras"].contains("epi") && holder["extras"]["epi"].is_object() &&
+         holder["extras"]["epi"].contains("camera_path");
+}
+
+// The camera path in `holder`'s extras (`prefix` names the holder in messages).
+std::vector<Camera> read_camera_path(const json& holder, const std::string& prefix, float znear) {
   std::vector<Camera> path;
-  if (!document.contains("extras") || !document["extras"].is_object() || !document["extras"].contains("epi"))
+  if (!holder.contains("extras") || !holder["extras"].is_object() || !holder["extras"].contains("epi"))
     return path;
-  const json& epi = document["extras"]["epi"];
-  if (!epi.is_object()) fail("extras.epi: expected an object, got " + describe_json(epi));
+  const json& epi = holder["extras"]["epi"];
+  if (!epi.is_object()) fail(prefix + "extras.epi: expected an object, got " + describe_json(epi));
   if (!epi.contains("camera_path")) return path;
   const json& entries = epi["camera_path"];
-  if (!entries.is_array()) fail("extras.epi.camera_path: expected an array, got " + describe_json(entries));
+  if (!entries.is_array()) fail(prefix + "extras.epi.camera_path: expected an array, got " + describe_json(entries));
   for (size_t i = 0; i < entries.size(); ++i) {
-    const std::string where = "extras.epi.camera_path[" + std::to_string(i) + "]";
+    const std::string where = prefix + "extras.epi.camera_path[" + std::to_string(i) + "]";
     const json& entry = entries[i];
     if (!entry.is_object()) fail(where + ": expected an object, got " + describe_json(entry));
     Camera camera;
@@ -953,7 +961,12 @@ Scene load(const std::filesystem::path& file, const LoadOptions& options) {
   const Bounds bounds = scene.world_bounds();
   if (!finite(glm::dvec3(bounds.min)) || !finite(glm::dvec3(bounds.max))) fail("world bounds are not finite");
   if (scene.cameras.empty()) scene.cameras.push_back(default_camera(bounds));
-  scene.camera_path = read_camera_path(document, 0.001f * std::max(0.5f * glm::length(bounds.max - bounds.min), 1e-6f));
+  // The chosen scene's extras first, then the document's.
+  const float path_znear = 0.001f * std::max(0.5f * glm::length(bounds.max - bounds.min), 1e-6f);
+  const json& scene_json = document["scenes"][size_t(scene_index)];
+  scene.camera_path = has_camera_path(scene_json)
+                          ? read_camera_path(scene_json, "scenes[" + std::to_string(scene_index) + "].", path_znear)
+                          : read_camera_path(document, "", path_znear);
 
   bool any_emissive = false;
   for (const Material& material : scene.materials) any_emissive |= material.emissive();

@@ -110,6 +110,7 @@ TEST(Cli, InfoCountsTheDefaultScene) {
   for (const char* field : {"objects: ", "triangles: ", "unique edges: ", "lights: ", "cameras: ", "memory:"})
     EXPECT_NE(run.out.find(field), std::string::npos) << field;
   EXPECT_NE(run.out.find("area 1"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("camera path keys: 60"), std::string::npos) << run.out;
 }
 
 TEST(Cli, RenderWritesImageAndStats) {

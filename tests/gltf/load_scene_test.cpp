@@ -310,6 +310,28 @@ TEST(LoadScene, CameraPathFromSceneExtras) {
   EXPECT_FLOAT_EQ(scene.camera_path[1].yfov_degrees, 45.0f);
 }
 
+TEST(LoadScene, CameraPathInTheChosenSceneWinsOverTheRoot) {
+  TempDir dir;
+  GltfBuilder b;
+  b.add_mesh("tri", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {0, 1, 2});
+  b.set_scene({b.add_node({{"mesh", 0}})});
+  b.doc["extras"] = {{"epi", {{"camera_path", {{{"eye", {0, 0, 5}}, {"target", {0, 0, 0}}}}}}}};
+  b.doc["scenes"][0]["extras"] = {
+      {"epi", {{"camera_path", {{{"eye", {0, 3, 3}}, {"target", {0, 0, 0}}}, {{"eye", {3, 3, 0}}, {"target", {0, 0, 0}}},
+                                {{"eye", {3, 0, 3}}, {"target", {0, 0, 0}}}}}}}};
+  const Scene scene = load_scene(b.write_gltf(dir / "p.gltf"));
+  ASSERT_EQ(scene.camera_path.size(), 3u);
+  expect_near(scene.camera_path[0].eye, glm::vec3(0, 3, 3));
+
+  b.doc["scenes"][0]["extras"]["epi"]["camera_path"][1] = {{"target", {0, 0, 0}}};
+  try {
+    load_scene(b.write_gltf(dir / "bad.gltf"));
+    FAIL() << "expected SceneLoadError";
+  } catch (const SceneLoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("scenes[0].extras.epi.camera_path[1]"), std::string::npos) << e.what();
+  }
+}
+
 TEST(LoadScene, StripsAndFansAreTriangulatedWithConsistentWinding) {
   TempDir dir;
   GltfBuilder b;
