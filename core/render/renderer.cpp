@@ -114,9 +114,25 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
     const std::vector<uint8_t> occupied = predicted_occupancy(cache_, predicted, transforms_, settings_.predict_stride,
                                                               frame_ % std::max(1, settings_.predict_stride),
                                                               settings_.predict_splat);
-    std::vector<float> gaps(occupied.size());
+    // Gaps about to open: predicted pixels without points whose ray, at the typical depth of the
+    // current points, lies outside the current view (areas the current priority cannot see).
+    double depth_sum = 0.0;
+    size_t depth_count = 0;
+    for (float d : cache_.image().depth)
+      if (std::isfinite(d) && d < cache_.background_depth() * 0.5f) depth_sum += d, ++depth_count;
+    const float typical_depth = depth_count ? float(depth_sum / double(depth_count)) : 1.0f;
+    std::vector<float> gaps(occupied.size(), 0.0f);
     size_t gap_count = 0;
-    for (size_t i = 0; i < occupied.size(); ++i) gaps[i] = occupied[i] ? 0.0f : 1.0f, gap_count += !occupied[i];
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * size_t(w) + size_t(x);
+        if (occupied[i]) continue;
+        const Ray ray = predicted.ray(float(x) + 0.5f, float(y) + 0.5f);
+        const Projection now = frame.project(ray.origin + ray.direction * typical_depth);
+        const bool unseen = !now.in_front() || now.pixel.x < 0.0f || now.pixel.y < 0.0f || now.pixel.x >= float(w) ||
+                            now.pixel.y >= float(h);
+        if (unseen) gaps[i] = 1.0f, ++gap_count;
+      }
     const size_t n = std::min(gap_count, size_t(double(main_budget) * double(settings_.predict_share)));
     if (n > 0) {
       NewShot shot{predicted, {}};

@@ -333,3 +333,31 @@ TEST(FrameLoop, AsyncResultsFromAnOldPlacementAreDropped) {
 
 }  // namespace
 }  // namespace epi::render
+
+namespace epi::render {
+namespace {
+
+// A steady pan: with predictive sampling the strip entering the view already holds points when
+// it appears; without it, the strip waits for the priority image to ask for it.
+TEST(FrameLoop, PredictiveSamplingFillsTheStripThatOpens) {
+  size_t filled[2] = {0, 0};
+  for (int predict = 0; predict < 2; ++predict) {
+    Fixture f;
+    FrameSettings s = small_settings(RenderMode::rendercache);
+    s.predict_share = predict ? 0.25f : 0.0f;
+    FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+    Camera camera = f.scene.cameras[0];
+    for (int k = 0; k < 16; ++k) {
+      camera.eye.x += 0.4f, camera.target.x += 0.4f;  // pan right ~4 px a frame: new columns enter on the right
+      renderer.render(camera);
+      if (k < 6) continue;
+      const PointImage& image = renderer.cache().image();
+      for (int y = 0; y < 64; ++y)
+        for (int x = 56; x < 64; ++x) filled[predict] += image.point[image.index(x, y)] >= 0;
+    }
+  }
+  EXPECT_GT(double(filled[1]), 1.2 * double(filled[0])) << filled[0] << " vs " << filled[1];
+}
+
+}  // namespace
+}  // namespace epi::render
