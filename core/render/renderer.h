@@ -92,6 +92,7 @@ class FrameRenderer {
   const edges::SceneEdgeFinder* edge_finder() const { return finder_.get(); }
   double edge_finder_build_ms() const { return finder_ ? finder_->build_ms() : 0.0; }
   int frame() const { return frame_; }
+  size_t pending_requests() const { return async_ ? async_->pending_requests() : 0; }  // async: not yet shaded
 
  private:
   struct Shot {  // a batch of requests, the view they were made for, and the object placement

@@ -361,3 +361,26 @@ TEST(FrameLoop, PredictiveSamplingFillsTheStripThatOpens) {
 
 }  // namespace
 }  // namespace epi::render
+
+namespace epi::render {
+namespace {
+
+// With an expensive shader, frames return while their requests are still being shaded: the loop
+// does not wait (no timing involved: the shader's queue is observed non-empty after a frame).
+TEST(FrameLoop, FramesDoNotWaitForAnExpensiveShader) {
+  Scene scene = plane_and_box();
+  RayScene ray_scene(scene);
+  ShaderSettings slow;
+  slow.kind = ShaderKind::gi, slow.gi_paths = 256;
+  Shader shader(ray_scene, slow);
+  FrameRenderer renderer(scene, ray_scene, shader, small_settings(RenderMode::epi, false));
+  bool returned_with_work_pending = false;
+  for (int k = 0; k < 5; ++k) {
+    renderer.render(scene.cameras[0]);
+    returned_with_work_pending |= renderer.pending_requests() > 0;
+  }
+  EXPECT_TRUE(returned_with_work_pending);
+}
+
+}  // namespace
+}  // namespace epi::render

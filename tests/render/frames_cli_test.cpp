@@ -92,6 +92,11 @@ TEST(FramesCli, CameraPathFileWithAMovingObject) {
                           " -o " + (dir / "p.png").string() + " --stats " + (dir / "p.json").string());
   ASSERT_EQ(run.exit_code, 0) << run.out;
   EXPECT_TRUE(fs::exists(dir / "p.png"));
+  // The same path with asynchronous shading (the default).
+  const EpiRun async = run_epi("render " + kScene + " --mode epi" + kSmall + " --camera-path " + (dir / "path.txt").string() +
+                               " -o " + (dir / "q.png").string());
+  ASSERT_EQ(async.exit_code, 0) << async.out;
+  EXPECT_TRUE(fs::exists(dir / "q.png"));
   fs::remove_all(dir);
 }
 
