@@ -146,9 +146,11 @@ void timed(benchmark::State& state, const Frame& f, Body body, bool label = true
 void BM_Rasterize(benchmark::State& state) {
   Frame& f = frame(int(state.range(0)), int(state.range(1)));
   BoundaryMasks masks(f.epi.width, f.epi.height, true);
+  const int threads = int(state.range(2));
   timed(state, f, [&] {
     masks.clear();
-    rasterize_edges(masks, f.edges);
+    if (threads == 0) rasterize_edges(masks, f.edges);
+    else rasterize_edges_parallel(masks, f.edges, 64, threads);
   });
   state.counters["edges"] = double(f.edges.size());
 }
@@ -357,7 +359,7 @@ void SizesSerial(benchmark::internal::Benchmark* b) {
 }
 
 BENCHMARK(BM_StreamingFloor)->Apply(SizesSerial);
-BENCHMARK(BM_Rasterize)->Apply(SizesSerial);
+BENCHMARK(BM_Rasterize)->Apply(Sizes);
 BENCHMARK(BM_Classify)->Apply(Sizes);
 BENCHMARK(BM_Reachability)->Apply(Sizes);
 BENCHMARK(BM_Interpolate)->Apply(Sizes);

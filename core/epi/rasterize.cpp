@@ -4,6 +4,10 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 namespace epi {
 
 BoundaryMasks::BoundaryMasks(int w, int h, bool with_centre_lines) : width(w), height(h), centre_lines(with_centre_lines) {
@@ -46,12 +50,20 @@ long long floor_div8(long long q) { return q >= 0 ? q / 8 : -((-q + 7) / 8); }
 
 }  // namespace
 
-void rasterize_edges(BoundaryMasks& m, std::span<const Segment> segments) {
+namespace {
+
+// The crossings whose cell row lies in [row_begin, row_end) (for the top line: lines
+// row_begin .. row_end - 1, and line h too when row_end == h). Bands of rows own disjoint
+// bytes, so they can run in parallel; each segment is clipped to the band's rows first.
+void rasterize_rows(BoundaryMasks& m, std::span<const Segment> segments, int row_begin, int row_end) {
   const int w = m.width, h = m.height;
+  const int last_top_line = row_end == h ? h : row_end - 1;
   for (const Segment& s : segments) {
     if (!std::isfinite(s.x0) || !std::isfinite(s.y0) || !std::isfinite(s.x1) || !std::isfinite(s.y1))
       throw std::invalid_argument("edge segment with a non-finite coordinate");
     const double dx = s.x1 - s.x0, dy = s.y1 - s.y0;
+    const double ylo = std::min(s.y0, s.y1), yhi = std::max(s.y0, s.y1);
+    if (yhi < row_begin - 1.0 || ylo > row_end + 1.0) continue;
     // Vertical lines x = k (and x = k + 1/2): the y of the crossing, shifted back when the
     // segment descends (the +e shift in x moves the crossing up by e * slope).
     const bool descends = (dx > 0) == (dy > 0) && dy != 0;
@@ -59,7 +71,7 @@ void rasterize_edges(BoundaryMasks& m, std::span<const Segment> segments) {
       const double y = std::clamp(s.y0 + (line_x - s.x0) * dy / dx, -16.0, h + 16.0);
       const long long q = eighth(y, descends);
       const long long row = floor_div8(q);
-      if (row < 0 || row >= h) return;
+      if (row < row_begin || row >= row_end) return;
       plane[m.index(k, int(row))] |= uint8_t(1u << (q - row * 8));
     };
     auto horizontal = [&](double line_y, std::vector<uint8_t>& plane, int j) {
@@ -70,25 +82,58 @@ void rasterize_edges(BoundaryMasks& m, std::span<const Segment> segments) {
       plane[m.index(int(col), j)] |= uint8_t(1u << (q - col * 8));
     };
     const double xlo = std::min(s.x0, s.x1), xhi = std::max(s.x0, s.x1);
-    const double ylo = std::min(s.y0, s.y1), yhi = std::max(s.y0, s.y1);
     int first, last;
     if (dx != 0) {
+      // The x-range of the part within a row of the band, widened by a pixel: only a bound
+      // on which lines to try; the crossing test below uses the whole segment.
+      double clip_lo = xlo, clip_hi = xhi;
+      if (dy != 0) {
+        const double ta = std::clamp((row_begin - 1.0 - s.y0) / dy, 0.0, 1.0);
+        const double tb = std::clamp((row_end + 1.0 - s.y0) / dy, 0.0, 1.0);
+        const double xa = s.x0 + ta * dx, xb = s.x0 + tb * dx;
+        clip_lo = std::min(xa, xb) - 1.0, clip_hi = std::max(xa, xb) + 1.0;
+      }
+      const int clip_first = int(std::clamp(std::floor(clip_lo), -1.0, w + 1.0));
+      const int clip_last = int(std::clamp(std::ceil(clip_hi), -1.0, w + 1.0));
       crossed_lines(xlo, xhi, 0.0, 0, w, first, last);
+      first = std::max(first, clip_first), last = std::min(last, clip_last);
       for (int k = first; k <= last; ++k) vertical(k, m.left, k);
       if (m.centre_lines) {
         crossed_lines(xlo, xhi, 0.5, 0, w - 1, first, last);
+        first = std::max(first, clip_first), last = std::min(last, clip_last);
         for (int k = first; k <= last; ++k) vertical(k + 0.5, m.centre_v, k);
       }
     }
     if (dy != 0) {
-      crossed_lines(ylo, yhi, 0.0, 0, h, first, last);
+      crossed_lines(ylo, yhi, 0.0, row_begin, last_top_line, first, last);
       for (int j = first; j <= last; ++j) horizontal(j, m.top, j);
       if (m.centre_lines) {
-        crossed_lines(ylo, yhi, 0.5, 0, h - 1, first, last);
+        crossed_lines(ylo, yhi, 0.5, row_begin, row_end - 1, first, last);
         for (int j = first; j <= last; ++j) horizontal(j + 0.5, m.centre_h, j);
       }
     }
   }
+}
+
+}  // namespace
+
+void rasterize_edges(BoundaryMasks& m, std::span<const Segment> segments) {
+  rasterize_rows(m, segments, 0, m.height);
+}
+
+void rasterize_edges_parallel(BoundaryMasks& m, std::span<const Segment> segments, int rows_per_band, int threads) {
+  for (const Segment& s : segments)  // fail before any thread starts
+    if (!std::isfinite(s.x0) || !std::isfinite(s.y0) || !std::isfinite(s.x1) || !std::isfinite(s.y1))
+      throw std::invalid_argument("edge segment with a non-finite coordinate");
+  const int band_rows = std::max(1, rows_per_band);
+  const int bands = (m.height + band_rows - 1) / band_rows;
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const tbb::blocked_range<int>& r) {
+      for (int b = r.begin(); b != r.end(); ++b)
+        rasterize_rows(m, segments, b * band_rows, std::min(m.height, (b + 1) * band_rows));
+    }, tbb::simple_partitioner());
+  });
 }
 
 }  // namespace epi

@@ -44,4 +44,9 @@ struct BoundaryMasks {
 // (std::invalid_argument otherwise).
 void rasterize_edges(BoundaryMasks& masks, std::span<const Segment> segments);
 
+// The same result, bit for bit, from bands of rows in parallel (each band owns its rows'
+// bytes and skips segments outside them); threads 0: all cores.
+void rasterize_edges_parallel(BoundaryMasks& masks, std::span<const Segment> segments, int rows_per_band = 64,
+                              int threads = 0);
+
 }  // namespace epi

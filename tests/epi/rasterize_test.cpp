@@ -54,6 +54,30 @@ TEST(Rasterize, RandomSegmentsMatchBruteForce) {
   }
 }
 
+TEST(Rasterize, ParallelBandsMatchTheSerialRasterizer) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-10.0, 90.0), v(0.0, 1.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Segment> segments;
+    for (int i = 0; i < 300; ++i) {
+      const double x = u(rng), y = u(rng), len = v(rng) < 0.5 ? 3 * v(rng) : 80 * v(rng), a = 6.3 * v(rng);
+      segments.push_back({x, y, x + len * std::cos(a), y + len * std::sin(a)});
+    }
+    segments.push_back({3.0, 5.0, 40.0, 5.0});   // on a grid line
+    segments.push_back({1.0, 1.0, 60.0, 60.0});  // through corners
+    BoundaryMasks serial(77, 61, true);
+    rasterize_edges(serial, segments);
+    for (auto [rows, threads] : {std::pair{1, 2}, {3, 1}, {7, 2}, {64, 2}, {1000, 1}}) {
+      BoundaryMasks parallel(77, 61, true);
+      rasterize_edges_parallel(parallel, segments, rows, threads);
+      ASSERT_EQ(serial.top, parallel.top) << rows;
+      ASSERT_EQ(serial.left, parallel.left) << rows;
+      ASSERT_EQ(serial.centre_h, parallel.centre_h) << rows;
+      ASSERT_EQ(serial.centre_v, parallel.centre_v) << rows;
+    }
+  }
+}
+
 // A single straight line makes every pixel empty or simple, and each simple pixel's
 // reconstructed edge ends within 1/16 pixel of the true line.
 TEST(Rasterize, StraightLinesReconstructWithinAnEighth) {
