@@ -55,7 +55,7 @@ int run_reconstruct(const ReconstructOptions& options) {
   auto stage = Clock::now();
   BoundaryMasks masks(pattern.width, pattern.height, complex_filter);
   const std::vector<Segment> edges = pattern_edges(pattern);
-  rasterize_edges(masks, edges);
+  rasterize_edges_parallel(masks, edges, 64, options.threads);
   const double rasterize_ms = ms_since(stage);
 
   stage = Clock::now();
