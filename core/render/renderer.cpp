@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
 
 #include "render/sampling.h"
 
@@ -121,24 +125,35 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
     for (float d : cache_.image().depth)
       if (std::isfinite(d) && d < cache_.background_depth() * 0.5f) depth_sum += d, ++depth_count;
     const float typical_depth = depth_count ? float(depth_sum / double(depth_count)) : 1.0f;
-    std::vector<float> gaps(occupied.size(), 0.0f);
-    size_t gap_count = 0;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const size_t i = size_t(y) * size_t(w) + size_t(x);
-        if (occupied[i]) continue;
-        const Ray ray = predicted.ray(float(x) + 0.5f, float(y) + 0.5f);
-        const Projection now = frame.project(ray.origin + ray.direction * typical_depth);
-        const bool unseen = !now.in_front() || now.pixel.x < 0.0f || now.pixel.y < 0.0f || now.pixel.x >= float(w) ||
-                            now.pixel.y >= float(h);
-        if (unseen) gaps[i] = 1.0f, ++gap_count;
-      }
+    std::vector<uint8_t> gaps(occupied.size(), 0);
+    const size_t gap_count = tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, h, 8), size_t(0),
+        [&](const tbb::blocked_range<int>& rows, size_t count) {
+          for (int y = rows.begin(); y != rows.end(); ++y)
+            for (int x = 0; x < w; ++x) {
+              const size_t i = size_t(y) * size_t(w) + size_t(x);
+              if (occupied[i]) continue;
+              const Ray ray = predicted.ray(float(x) + 0.5f, float(y) + 0.5f);
+              const Projection now = frame.project(ray.origin + ray.direction * typical_depth);
+              const bool unseen = !now.in_front() || now.pixel.x < 0.0f || now.pixel.y < 0.0f ||
+                                  now.pixel.x >= float(w) || now.pixel.y >= float(h);
+              if (unseen) gaps[i] = 1, ++count;
+            }
+          return count;
+        },
+        std::plus<size_t>());
     const size_t n = std::min(gap_count, size_t(double(main_budget) * double(settings_.predict_share)));
     if (n > 0) {
       NewShot shot{predicted, {}};
-      make_requests(dither_pixels(gaps, w, h, n), w, settings_.seed, uint64_t(frame_) * 2 + 1, 0, shot.requests);
-      main_budget -= n;
-      stats_.predicted = n;
+      // Evenly spaced over the gaps in scan order (the gaps are uniform in priority).
+      std::vector<uint32_t> picked;
+      picked.reserve(n);
+      size_t seen = 0;
+      for (size_t i = 0; i < gaps.size() && picked.size() < n; ++i)
+        if (gaps[i] && (seen++ * n) % gap_count < n) picked.push_back(uint32_t(i));
+      make_requests(picked, w, settings_.seed, uint64_t(frame_) * 2 + 1, 0, shot.requests);
+      main_budget -= picked.size();
+      stats_.predicted = picked.size();
       shots.push_back(std::move(shot));
     }
   }

@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <atomic>
 #include <numeric>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 namespace epi::render {
 
@@ -126,18 +130,22 @@ std::vector<uint8_t> predicted_occupancy(const PointCache& cache, const ViewFram
   const auto& points = cache.points();
   stride = std::max(1, stride);
   const float znear = std::max(frame.view().camera.znear, 0.0f);
-  for (size_t i = 0; i < points.size(); ++i) {
-    const CachePoint& p = points[i];
-    if (!p.valid || splitmix64(i) % uint64_t(stride) != uint64_t(std::max(0, phase) % stride)) continue;
-    const Projection proj = frame.project(cache.world_position(p, frame, object_to_world));
-    if (!(proj.depth > znear)) continue;
-    const float fx = std::floor(proj.pixel.x - 0.5f * float(splat) + 0.5f);
-    const float fy = std::floor(proj.pixel.y - 0.5f * float(splat) + 0.5f);
-    if (!(fx > -float(splat) && fy > -float(splat) && fx < float(w) && fy < float(h))) continue;
-    const int x0 = int(fx), y0 = int(fy);
-    for (int y = std::max(0, y0); y < std::min(h, y0 + splat); ++y)
-      for (int x = std::max(0, x0); x < std::min(w, x0 + splat); ++x) occupied[size_t(y) * size_t(w) + size_t(x)] = 1;
-  }
+  // Points in parallel; a pixel is only ever set to 1, through an atomic reference.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 8192), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const CachePoint& p = points[i];
+      if (!p.valid || splitmix64(i) % uint64_t(stride) != uint64_t(std::max(0, phase) % stride)) continue;
+      const Projection proj = frame.project(cache.world_position(p, frame, object_to_world));
+      if (!(proj.depth > znear)) continue;
+      const float fx = std::floor(proj.pixel.x - 0.5f * float(splat) + 0.5f);
+      const float fy = std::floor(proj.pixel.y - 0.5f * float(splat) + 0.5f);
+      if (!(fx > -float(splat) && fy > -float(splat) && fx < float(w) && fy < float(h))) continue;
+      const int x0 = int(fx), y0 = int(fy);
+      for (int y = std::max(0, y0); y < std::min(h, y0 + splat); ++y)
+        for (int x = std::max(0, x0); x < std::min(w, x0 + splat); ++x)
+          std::atomic_ref<uint8_t>(occupied[size_t(y) * size_t(w) + size_t(x)]).store(1, std::memory_order_relaxed);
+    }
+  });
   return occupied;
 }
 

@@ -9,6 +9,7 @@
 
 #include "epi/antialias.h"
 #include "epi/complex_filter.h"
+#include "epi/fill.h"
 #include "epi/geometry.h"
 #include "epi/interpolate.h"
 #include "epi/reachability.h"
@@ -59,11 +60,18 @@ void StagedReconstructor::run(EpiImage& epi, const BoundaryMasks& masks, const R
   });
   times.classify = ms_since(t);
 
-  // Reachability (into a side buffer: neighbours' types are read while masks are written).
+  // Reachability, row by row in parallel over a read-only copy of the types (core/epi's reach_row:
+  // windows of empty pixels take the fast path, the rest the full 24-offset computation).
   t = Clock::now();
   if (epi_filter) {
+    types_.resize(pixels);
     for_rows(h, [&](int y) {
-      for (int x = 0; x < w; ++x) reach_[epi.index(x, y)] = reach_full(epi, x, y);
+      for (size_t i = epi.index(0, y); i < epi.index(0, y) + size_t(w); ++i) types_[i] = uint8_t(pixel_type(epi.cache[i]));
+    });
+    const TypePlane plane{types_.data(), w, h};
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 4), [&](const tbb::blocked_range<int>& r) {
+      std::vector<uint8_t> scratch(size_t(w) + 4);
+      for (int y = r.begin(); y != r.end(); ++y) reach_row(plane, y, nullptr, nullptr, &reach_[epi.index(0, y)], scratch.data());
     });
     for_rows(h, [&](int y) {
       for (size_t i = epi.index(0, y); i < epi.index(0, y) + size_t(w); ++i) epi.cache[i] |= reach_[i];

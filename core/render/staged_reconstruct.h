@@ -21,7 +21,7 @@ class StagedReconstructor {
 
  private:
   std::vector<uint32_t> reach_;
-  std::vector<uint8_t> found_;
+  std::vector<uint8_t> found_, types_;
   RgbImage interpolated_, filled_;
 };
 
