@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <atomic>
 #include <numeric>
 
@@ -21,27 +22,26 @@ uint64_t splitmix64(uint64_t x) {
 
 float unit_float(uint64_t bits) { return float(bits >> 40) * (1.0f / float(1u << 24)); }  // [0, 1)
 
-}  // namespace
 
-std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, int height, size_t count) {
+// One band of rows: `priority` and the returned indices are the band's own (row-major, from 0).
+std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width, int height, size_t count) {
   const size_t pixels = size_t(width) * size_t(height);
   count = std::min(count, pixels);
   std::vector<uint32_t> picked;
   if (count == 0 || pixels == 0) return picked;
   double total = 0.0;
-  for (float p : priority) total += std::max(0.0f, p);
-  const bool uniform = !(total > 0.0);
+  for (size_t i = 0; i < pixels && !uniform; ++i) total += std::max(0.0f, priority[i]);
+  uniform = uniform || !(total > 0.0);
   auto weight = [&](size_t i) { return uniform ? 1.0f : std::max(0.0f, priority[i]); };
-  double scale = double(count) / (uniform ? double(pixels) : total);
+  const double scale = double(count) / (uniform ? double(pixels) : total);
 
   // Floyd-Steinberg over the scaled priority, serpentine rows, two rows of error; error pushed
   // past a row's end goes to the next row's end pixel, so only the last row's error leaves the
-  // image. The value at the decision is kept: it ranks pixels when the count is settled. If the
-  // count still drifts by more than 1%, the scale is corrected and the dither rerun (at most twice).
+  // band. The value at the decision is kept: it ranks pixels when the count is settled.
   std::vector<float> err_row(size_t(width) + 2), err_next(size_t(width) + 2), decision(pixels);
   std::vector<uint8_t> chosen(pixels);
   size_t chosen_count = 0;
-  for (int pass = 0; pass < 3; ++pass) {
+  {
     // The first row starts with a little error (a fixed hash pattern in [0, 1/2)): without it
     // the first rows stay empty until error has accumulated.
     for (size_t x = 0; x < err_row.size(); ++x) err_row[x] = 0.5f * unit_float(splitmix64(x));
@@ -70,9 +70,6 @@ std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, 
       err_next[0] = err_next[size_t(width) + 1] = 0.0f;
       std::swap(err_row, err_next);
     }
-    const double drift = std::abs(double(chosen_count) - double(count));
-    if (drift <= 0.01 * double(count) + 1.0 || chosen_count == 0) break;
-    scale *= double(count) / double(chosen_count);
   }
   for (size_t i = 0; i < pixels; ++i)
     if (chosen[i]) picked.push_back(uint32_t(i));
@@ -86,18 +83,85 @@ std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, 
     return a < b;
   };
   if (picked.size() > count) {
-    std::sort(picked.begin(), picked.end(), before);
+    std::nth_element(picked.begin(), picked.begin() + ptrdiff_t(count), picked.end(), before);
     picked.resize(count);
   } else if (picked.size() < count) {
-    std::vector<uint32_t> rest;
-    rest.reserve(pixels - picked.size());
-    for (size_t i = 0; i < pixels; ++i)
-      if (!chosen[i]) rest.push_back(uint32_t(i));
+    // The best unpicked pixels: usually among those that came close to the threshold, so look
+    // there first and at all of them only if that is not enough.
     const size_t need = count - picked.size();
-    std::partial_sort(rest.begin(), rest.begin() + ptrdiff_t(need), rest.end(), before);
+    std::vector<uint32_t> rest;
+    for (const bool near_only : {true, false}) {
+      rest.clear();
+      for (size_t i = 0; i < pixels; ++i)
+        if (!chosen[i] && (!near_only || (weight(i) > 0.0f && decision[i] >= 0.25f))) rest.push_back(uint32_t(i));
+      if (rest.size() >= need) break;  // the best `need` of all rank first among these
+    }
+    std::nth_element(rest.begin(), rest.begin() + ptrdiff_t(need), rest.end(), before);
     picked.insert(picked.end(), rest.begin(), rest.begin() + ptrdiff_t(need));
   }
   std::sort(picked.begin(), picked.end());
+  return picked;
+}
+
+}  // namespace
+
+std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, int height, size_t count) {
+  const size_t pixels = size_t(width) * size_t(height);
+  count = std::min(count, pixels);
+  if (count == 0 || pixels == 0) return {};
+  double total = 0.0;
+  for (float p : priority) total += std::max(0.0f, p);
+  const bool uniform = !(total > 0.0) || priority.size() < pixels;
+
+  // Bands of rows dithered in parallel. Each gets a share of the count by its priority sum
+  // (largest remainders), never more than its positive pixels while other bands have some left.
+  const int band_rows = 64;
+  const int bands = (height + band_rows - 1) / band_rows;
+  struct Band {
+    double sum = 0;
+    size_t positive = 0, pixels = 0, count = 0;
+  };
+  std::vector<Band> info(static_cast<size_t>(bands));
+  tbb::parallel_for(0, bands, [&](int b) {
+    Band& band = info[size_t(b)];
+    const size_t first = size_t(b) * band_rows * size_t(width);
+    band.pixels = size_t(std::min(height, (b + 1) * band_rows) - b * band_rows) * size_t(width);
+    for (size_t i = first; i < first + band.pixels; ++i) {
+      const float p = uniform ? 1.0f : std::max(0.0f, priority[i]);
+      band.sum += p, band.positive += p > 0.0f;
+    }
+  });
+  double sum = 0.0;
+  for (const Band& b : info) sum += b.sum;
+  std::vector<std::pair<double, int>> remainders;
+  size_t given = 0;
+  for (int b = 0; b < bands; ++b) {
+    const double exact = double(count) * info[size_t(b)].sum / sum;
+    info[size_t(b)].count = std::min(info[size_t(b)].positive, size_t(exact));
+    given += info[size_t(b)].count;
+    remainders.push_back({exact - double(info[size_t(b)].count), b});
+  }
+  std::stable_sort(remainders.begin(), remainders.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (const bool zeros_too : {false, true})  // positive pixels first, by remainder; then any pixel
+    for (size_t pass = 0; given < count && pass < 2; ++pass)
+      for (const auto& [remainder, b] : remainders) {
+        Band& band = info[size_t(b)];
+        const size_t room = (zeros_too ? band.pixels : band.positive) - band.count;
+        const size_t add = std::min(room, pass == 0 ? size_t(1) : count - given);
+        band.count += add, given += add;
+        if (given == count) break;
+      }
+
+  std::vector<std::vector<uint32_t>> picks(static_cast<size_t>(bands));
+  tbb::parallel_for(0, bands, [&](int b) {
+    const size_t first = size_t(b) * band_rows * size_t(width);
+    const int rows = int(info[size_t(b)].pixels / size_t(width));
+    picks[size_t(b)] = dither_band(uniform ? nullptr : priority.data() + first, uniform, width, rows, info[size_t(b)].count);
+    for (uint32_t& i : picks[size_t(b)]) i += uint32_t(first);
+  });
+  std::vector<uint32_t> picked;
+  picked.reserve(count);
+  for (const auto& p : picks) picked.insert(picked.end(), p.begin(), p.end());
   return picked;
 }
 
