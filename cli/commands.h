@@ -1,7 +1,9 @@
 // The `epi` subcommands. cli/main.cpp (CLI11, the only file that includes it) parses the
 // command line into these structs and calls run_*; each run_* lives in its own file and
 // returns the process exit code. Errors are thrown as exceptions whose what() is one line
-// naming the file and the problem; main prints "epi: <what>" and exits 1.
+// naming the file and the problem; main prints "epi: <what>" and exits 1. A command line that
+// does not parse (unknown flag, bad value, no subcommand) prints the problem and the usage and
+// exits 2.
 #pragma once
 
 #include <cstdint>
@@ -10,6 +12,8 @@
 #include <vector>
 
 #include <glm/glm.hpp>
+
+#include "shade/shader.h"
 
 namespace epi {
 struct Scene;
@@ -34,14 +38,16 @@ int run_info(const InfoOptions& options);
 
 struct RenderOptions {
   std::string scene;
-  std::string mode = "reference";  // reference | raytrace | epi | rendercache (the last two: the frame loop)
+  std::string mode = "epi";  // epi | rendercache (the frame loop) | raytrace | reference
   int width = 512, height = 512;
   int spp = 16;
   std::string shader = "direct";  // direct | glossy | gi
+  ShaderSettings shading;         // sample counts from the command line; kind and seed from the two fields above/below
   uint64_t seed = 1;
   int threads = 0;  // 0: all cores
   std::string output = "out.png";
   std::string stats;  // JSON file, empty: none
+  float exposure = 0.0f;  // stops, for 8-bit outputs (io/image tone map)
   bool quiet = false;
   int subdiv_level = -1;
   CameraOverride camera;
@@ -53,6 +59,8 @@ struct RenderOptions {
   std::string frames_out;      // printf-style pattern for every frame's image, e.g. out/f%04d.png
 };
 int run_render(const RenderOptions& options);
+// The shader settings a render asks for (kind, seed and sample counts).
+ShaderSettings shader_settings(const RenderOptions& options);
 // The frame loop behind `render --mode epi|rendercache` (cli/frames.cpp).
 int run_render_frames(const RenderOptions& options);
 

@@ -63,9 +63,9 @@ std::string svg_drawing(const std::vector<edges::SceneEdge>& found, const View& 
 
 int run_edges(const EdgesOptions& options) {
   const auto start = Clock::now();
-  check_output_folder(options.output);
-  if (!options.svg.empty()) check_output_folder(options.svg);
-  if (!options.stats.empty()) check_output_folder(options.stats);
+  check_output_file(options.output);
+  if (!options.svg.empty()) check_output_file(options.svg);
+  if (!options.stats.empty()) check_output_file(options.stats);
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);
@@ -76,6 +76,7 @@ int run_edges(const EdgesOptions& options) {
   load_options.subdiv_level_override = options.subdiv_level;
   const Scene scene = load_scene(options.scene, load_options);
   const double load_ms = ms_since(stage);
+  report_repairs(scene, false);
 
   View view;
   view.camera = apply_camera_override(scene, options.camera);
@@ -130,8 +131,9 @@ int run_edges(const EdgesOptions& options) {
     }
     list.push_back(std::move(item));
   }
-  write_json(options.output, nlohmann::json{{"edges", std::move(list)}});
-  if (!options.svg.empty()) write_text_atomically(options.svg, svg_drawing(found, view));
+  StagedOutputs outputs;
+  outputs.add_json(options.output, nlohmann::json{{"edges", std::move(list)}});
+  if (!options.svg.empty()) outputs.add_text(options.svg, svg_drawing(found, view));
   const double write_ms = ms_since(stage);
   const double total_ms = ms_since(start);
 
@@ -141,7 +143,6 @@ int run_edges(const EdgesOptions& options) {
   for (int k = 0; k < edges::kEdgeKindCount; ++k) std::printf(" %s %zu", edges::to_string(EdgeKind(k)), counts[k]);
   std::printf("\n  load %.0f ms | build %.1f ms | view edges %.2f ms (tree %.2f, brute force %.2f) | shadows %.1f ms (%zu triples) | write %.0f ms\n",
               load_ms, build_ms, view_ms, tree_ms, brute_ms, shadow_ms, triples.size(), write_ms);
-  std::printf("  wrote %s%s%s\n", options.output.c_str(), options.svg.empty() ? "" : " and ", options.svg.c_str());
 
   if (!options.stats.empty()) {
     nlohmann::json count_json, meshes = nlohmann::json::array();
@@ -175,8 +176,10 @@ int run_edges(const EdgesOptions& options) {
           {"write", write_ms},
           {"total", total_ms}}},
     };
-    write_json(options.stats, stats);
+    outputs.add_json(options.stats, stats);
   }
+  outputs.commit();
+  std::printf("  wrote %s%s%s\n", options.output.c_str(), options.svg.empty() ? "" : " and ", options.svg.c_str());
   return 0;
 }
 

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cmath>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -26,13 +28,6 @@ using Clock = std::chrono::steady_clock;
 
 double ms_since(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-ShaderKind frame_shader_kind(const std::string& name) {
-  if (name == "direct") return ShaderKind::direct;
-  if (name == "glossy") return ShaderKind::glossy;
-  if (name == "gi") return ShaderKind::gi;
-  throw std::invalid_argument("unknown shader '" + name + "'");
 }
 
 // The file name of frame n from a printf-style pattern with exactly one integer conversion
@@ -85,9 +80,11 @@ bool has_camera_override(const CameraOverride& c) { return c.eye || c.target || 
 
 int run_render_frames(const RenderOptions& options) {
   const auto start = Clock::now();
-  check_output_path(options.output);
-  if (!options.stats.empty()) check_output_folder(options.stats);
-  if (!options.frames_out.empty()) check_output_path(frame_file(options.frames_out, 0));
+  check_output_image(options.output);
+  if (!options.stats.empty()) check_output_file(options.stats);
+  if (!options.frames_out.empty())
+    for (int f : {0, options.frames - 1}) check_output_image(frame_file(options.frames_out, f));
+  const ShaderSettings shader_settings_ = shader_settings(options);
   if (!(options.sample_budget > 0.0 && options.sample_budget <= 1.0))
     throw std::invalid_argument("--sample-budget " + std::to_string(options.sample_budget) + " is not in (0, 1]");
 
@@ -101,6 +98,7 @@ int run_render_frames(const RenderOptions& options) {
   load_options.subdiv_level_override = options.subdiv_level;
   const Scene scene = load_scene(options.scene, load_options);
   const double load_ms = ms_since(stage);
+  report_repairs(scene, options.quiet);
 
   // The path: a file, else a still camera from --eye/--target/..., else the scene's own path.
   render::CameraPath path;
@@ -119,10 +117,7 @@ int run_render_frames(const RenderOptions& options) {
 
   stage = Clock::now();
   RayScene ray_scene(scene);
-  ShaderSettings shader_settings;
-  shader_settings.kind = frame_shader_kind(options.shader);
-  shader_settings.seed = options.seed;
-  const Shader shader(ray_scene, shader_settings);
+  const Shader shader(ray_scene, shader_settings_);
   render::FrameSettings settings;
   settings.mode = options.mode == "rendercache" ? render::RenderMode::rendercache : render::RenderMode::epi;
   settings.width = options.width, settings.height = options.height;
@@ -141,6 +136,9 @@ int run_render_frames(const RenderOptions& options) {
   stage = Clock::now();
   double write_frames_ms = 0.0;
   const RgbImage* image = nullptr;
+  StagedOutputs outputs;  // frames, image and stats move into place together at the end
+  const uint64_t rays_before = shader.rays_traced();
+  const double shading_seconds_before = shader.shading_seconds();
   {
     ProgressBar bar("frames", options.quiet);
     for (int f = 0; f < options.frames; ++f) {
@@ -167,36 +165,50 @@ int run_render_frames(const RenderOptions& options) {
       series.predicted.push_back(double(s.predicted));
       if (!options.frames_out.empty()) {
         const auto t = Clock::now();
-        write_image(frame_file(options.frames_out, f), *image);
+        outputs.add_image(frame_file(options.frames_out, f), *image, options.exposure);
         write_frames_ms += ms_since(t);
       }
       bar.update(double(f + 1) / double(options.frames));
     }
   }
   const double run_ms = ms_since(stage) - write_frames_ms;
+  // Rays the shader traced during the run (async: up to the last frame; work still in flight
+  // when the renderer stops is not counted), and its rate while shading.
+  const uint64_t rays = shader.rays_traced() - rays_before;
+  const double shading_seconds = shader.shading_seconds() - shading_seconds_before;
+  const double mrays_per_s = shading_seconds > 0.0 ? double(rays) / shading_seconds * 1e-6 : 0.0;
 
   stage = Clock::now();
-  write_image(options.output, *image);
+  outputs.add_image(options.output, *image, options.exposure);
   const double write_ms = ms_since(stage) + write_frames_ms;
   const double total_ms = ms_since(start);
 
   const double frame_ms = median(series.total);
   const double samples_per_frame = mean(series.samples);
-  const double sparseness = samples_per_frame > 0.0 ? double(options.width) * double(options.height) / samples_per_frame : 0.0;
-  std::printf("%s: %dx%d, %s, %d frames%s, budget %.3f, %s shader, %d threads, %zu triangles\n", options.scene.c_str(),
-              options.width, options.height, options.mode.c_str(), options.frames, options.sync ? " (sync)" : "",
-              options.sample_budget, options.shader.c_str(), threads, scene.triangle_count());
-  std::printf("  per frame (median): edges %.1f + %.1f ms | points %.1f ms | classify %.1f | reach %.1f | interp %.1f | "
-              "aa %.1f | complex %.1f | sampling %.1f | shade (sync) %.1f | total %.1f ms (%.1f fps)\n",
+  // Pixels per new sample; none when no sample arrived (JSON null).
+  const std::optional<double> sparseness =
+      samples_per_frame > 0.0 ? std::optional<double>(double(options.width) * double(options.height) / samples_per_frame)
+                              : std::nullopt;
+  double total_samples = 0.0;
+  for (double n : series.samples) total_samples += n;
+  std::printf("%s: %dx%d, %s, %d frames (%s shading), budget %.3f, %s shader, %d threads, %zu triangles\n",
+              options.scene.c_str(), options.width, options.height, options.mode.c_str(), options.frames,
+              options.sync ? "sync" : "async", options.sample_budget, options.shader.c_str(), threads,
+              scene.triangle_count());
+  std::printf("  per frame (median, ms): edges %.1f + raster %.1f | points %.1f | classify %.1f | reach %.1f | "
+              "interp %.1f | aa %.1f | complex %.1f | sampling %.1f%s",
               median(series.find_edges), median(series.rasterize_edges), median(series.points), median(series.classify),
               median(series.reachability), median(series.interpolate), median(series.antialias), median(series.complex),
-              median(series.sampling), median(series.shade), frame_ms, frame_ms > 0.0 ? 1000.0 / frame_ms : 0.0);
-  std::printf("  %.0f samples per frame (sparseness %.0f) | pixels %.1f%% empty, %.1f%% simple, %.1f%% complex\n",
-              samples_per_frame, sparseness, 100.0 * mean(series.empty), 100.0 * mean(series.simple),
-              100.0 * mean(series.complex_pixels));
+              median(series.sampling), options.sync ? " | shade " : "");
+  if (options.sync) std::printf("%.1f", median(series.shade));
+  std::printf(" | total %.1f ms (%.1f fps)\n", frame_ms, frame_ms > 0.0 ? 1000.0 / frame_ms : 0.0);
+  std::printf("  %.0f samples per frame (sparseness %s) | pixels %.1f%% empty, %.1f%% simple, %.1f%% complex\n",
+              samples_per_frame, sparseness ? std::to_string(int64_t(std::lround(*sparseness))).c_str() : "-",
+              100.0 * mean(series.empty), 100.0 * mean(series.simple), 100.0 * mean(series.complex_pixels));
+  std::printf("  shader: %llu rays, %.1f Mrays/s over %.0f ms of shading\n", (unsigned long long)rays, mrays_per_s,
+              shading_seconds * 1e3);
   std::printf("  load %.0f ms | build %.0f ms | frames %.0f ms | write %.0f ms | total %.0f ms\n", load_ms, build_ms, run_ms,
               write_ms, total_ms);
-  std::printf("  wrote %s\n", options.output.c_str());
 
   if (!options.stats.empty()) {
     nlohmann::json stats = {
@@ -237,11 +249,17 @@ int run_render_frames(const RenderOptions& options) {
         {"samples_per_frame", samples_per_frame},
         {"requests_per_frame", mean(series.requested)},
         {"predicted_per_frame", mean(series.predicted)},
-        {"sparseness", sparseness},
+        {"sparseness", sparseness ? nlohmann::json(*sparseness) : nlohmann::json(nullptr)},
+        {"samples", total_samples},
+        {"rays", rays},
+        {"mrays_per_s", mrays_per_s},
+        {"shading_ms", shading_seconds * 1e3},
         {"setup_ms", {{"load", load_ms}, {"build", build_ms}, {"frames", run_ms}, {"write", write_ms}, {"total", total_ms}}},
     };
-    write_json(options.stats, stats);
+    outputs.add_json(options.stats, stats);
   }
+  outputs.commit();
+  std::printf("  wrote %s%s%s\n", options.output.c_str(), options.stats.empty() ? "" : " and ", options.stats.c_str());
   return 0;
 }
 

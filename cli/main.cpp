@@ -13,6 +13,8 @@ namespace {
 
 using namespace epi::cli;
 
+constexpr int kUsageExitCode = 2;  // a command line that does not parse; 1: the work failed
+
 // Parses "x,y,z" into a vector of three finite floats.
 bool parse_vec3(const std::string& text, glm::vec3& out) {
   std::stringstream in(text);
@@ -84,23 +86,28 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 8));
 
   RenderOptions render;
-  CLI::App* render_cmd = app.add_subcommand("render", "Render a scene to an image file");
+  CLI::App* render_cmd = app.add_subcommand(
+      "render", "Render a scene to an image file and print a timing summary (default: --mode epi, the edge-and-point renderer)");
   render_cmd->add_option("scene", render.scene, "glTF 2.0 scene (.gltf or .glb)")->required();
 #ifdef EPI_WITH_FRAMES
   render_cmd
       ->add_option("--mode", render.mode,
-                   "epi: the edge-and-point renderer; rendercache: the same without edges; raytrace: 1 sample per pixel; "
-                   "reference: converged, --spp samples per pixel")
+                   "epi (the default): the edge-and-point renderer, run over --frames frames of the camera path; "
+                   "rendercache: the same without edges; raytrace: 1 sample per pixel; reference: converged, --spp "
+                   "samples per pixel")
       ->check(CLI::IsMember({"epi", "rendercache", "raytrace", "reference"}))
       ->capture_default_str();
-  render_cmd->add_option("--frames", render.frames, "Frames to run (epi, rendercache)")->check(CLI::Range(1, 1000000))->capture_default_str();
-  render_cmd->add_flag("--sync", render.sync, "Shade exactly the sample budget every frame (deterministic; for tests)");
+  render_cmd->add_option("--frames", render.frames, "Frames to run (epi, rendercache); the image is the last frame")->check(CLI::Range(1, 1000000))->capture_default_str();
+  render_cmd->add_flag("--sync", render.sync,
+                       "Shade exactly the sample budget inside every frame: the same bytes for the same seed. Default: "
+                       "asynchronous, as interactively (the shader runs beside the frame loop; timing-dependent)");
   render_cmd->add_option("--sample-budget", render.sample_budget, "Fraction of the pixels shaded per frame")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   render_cmd->add_option("--camera-path", render.camera_path, "Camera keys per frame (docs/camera-path.md)");
   render_cmd->add_option("--frames-out", render.frames_out, "Write every frame, e.g. frames/f%04d.png");
 #else
+  render.mode = "reference";  // built without the frame loop
   render_cmd->add_option("--mode", render.mode, "reference: converged, --spp samples per pixel; raytrace: 1 sample per pixel")
       ->check(CLI::IsMember({"reference", "raytrace"}))
       ->capture_default_str();
@@ -116,8 +123,33 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--threads", render.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
   render_cmd->add_option("-o,--output", render.output, "Output image; format from the extension (.exr linear, .png sRGB)")
       ->capture_default_str();
-  render_cmd->add_option("--stats", render.stats, "Write timings and counts as JSON");
-  render_cmd->add_flag("--quiet", render.quiet, "No progress bar");
+  render_cmd->add_option("--stats", render.stats, "Write timings, rays traced and Mrays/s, and counts as JSON");
+  render_cmd->add_option("--exposure", render.exposure,
+                         "Exposure in stops for 8-bit outputs (.png): linear * 2^stops, then a highlight shoulder above "
+                         "0.8 that keeps hue, then sRGB. EXR is written linear, untouched")
+      ->check(CLI::Range(-32.0f, 32.0f))
+      ->capture_default_str();
+  render_cmd->add_option("--area-light-samples", render.shading.area_light_samples, "Shadow rays to area lights per hit")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  render_cmd->add_option("--glossy-samples", render.shading.glossy_samples, "Glossy reflection rays per hit (glossy shader)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  render_cmd
+      ->add_option("--glossy-light-samples", render.shading.glossy_light_samples,
+                   "Area-light shadow rays at each reflected hit (glossy shader)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  render_cmd->add_option("--gi-paths", render.shading.gi_paths, "Indirect paths per hit (gi shader)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  render_cmd->add_option("--gi-light-samples", render.shading.gi_light_samples, "Area-light shadow rays per path vertex (gi shader)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  render_cmd->add_option("--gi-max-bounces", render.shading.gi_max_bounces, "Longest indirect path, in bounces (gi shader)")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
+  render_cmd->add_flag("--quiet", render.quiet, "No progress bar, no repair report");
   render_cmd->add_option("--subdiv-level", render.subdiv_level, "Override the subdivision level")->check(CLI::Range(0, 8));
   add_camera_options(*render_cmd, render.camera);
 
@@ -157,7 +189,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // A command line that does not parse: the problem, then the usage of the (sub)command
+    // that was being read (app.help() descends into it), exit code 2.
+    std::fprintf(stderr, "epi: %s\n\n%s", e.what(), app.help().c_str());
+    return kUsageExitCode;
   }
 
   try {

@@ -5,6 +5,9 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "image_io.h"
+#include "scene/scene.h"
+
 namespace epi::cli {
 
 namespace fs = std::filesystem;
@@ -35,34 +38,85 @@ void ProgressBar::finish() {
   enabled_ = false;
 }
 
-void check_output_folder(const fs::path& file) {
+void check_output_file(const fs::path& file) {
+  if (file.empty()) throw std::runtime_error("empty output file name");
   const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
     throw std::runtime_error(file.string() + ": output folder '" + folder.string() + "' does not exist");
+  if (fs::is_directory(file, ec)) throw std::runtime_error(file.string() + ": is a folder, not a file");
+  if (::access(folder.c_str(), W_OK | X_OK) != 0)
+    throw std::runtime_error(file.string() + ": output folder '" + folder.string() + "' is not writable");
+  if (fs::exists(file, ec) && ::access(file.c_str(), W_OK) != 0)
+    throw std::runtime_error(file.string() + ": exists and is not writable");
 }
 
-void write_text_atomically(const fs::path& file, const std::string& text) {
-  check_output_folder(file);
-  const fs::path temporary = file.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" + file.filename().string());
-  {
-    std::ofstream out(temporary, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(temporary, ec);
-      throw std::runtime_error(file.string() + ": could not write");
+void check_output_image(const fs::path& file) {
+  check_output_path(file);  // the extension
+  check_output_file(file);
+}
+
+StagedOutputs::~StagedOutputs() {
+  for (const Staged& s : staged_) {
+    std::error_code ec;
+    fs::remove(s.temporary, ec);
+  }
+}
+
+fs::path StagedOutputs::temporary_for(const fs::path& file) {
+  check_output_file(file);
+  // Hidden, unique per process and output, and keeping the extension (the image writer picks
+  // its format from it).
+  const fs::path folder = file.has_parent_path() ? file.parent_path() : fs::path(".");
+  return folder / (".tmp-" + std::to_string(::getpid()) + "-" + std::to_string(staged_.size()) + "-" +
+                   file.filename().string());
+}
+
+void StagedOutputs::add_text(const fs::path& file, const std::string& text) {
+  const fs::path temporary = temporary_for(file);
+  staged_.push_back({temporary, file});
+  std::ofstream out(temporary, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) throw std::runtime_error(file.string() + ": could not write");
+}
+
+void StagedOutputs::add_json(const fs::path& file, const nlohmann::json& json) {
+  add_text(file, json.dump(2) + "\n");
+}
+
+void StagedOutputs::add_image(const fs::path& file, const RgbImage& image, float exposure) {
+  check_output_path(file);
+  const fs::path temporary = temporary_for(file);
+  staged_.push_back({temporary, file});
+  try {
+    ImageWriteOptions options;
+    options.exposure = exposure;
+    write_image(temporary, image, options);
+  } catch (const ImageIOError&) {
+    throw std::runtime_error(file.string() + ": could not write the image");
+  }
+}
+
+void StagedOutputs::commit() {
+  for (size_t i = 0; i < staged_.size(); ++i) {
+    std::error_code ec;
+    fs::rename(staged_[i].temporary, staged_[i].target, ec);
+    if (ec) {
+      // Undo nothing already moved (those files are complete), drop the rest.
+      staged_.erase(staged_.begin(), staged_.begin() + std::ptrdiff_t(i));
+      throw std::runtime_error(staged_.front().target.string() + ": could not move the finished file into place: " +
+                               ec.message());
     }
   }
-  std::error_code ec;
-  fs::rename(temporary, file, ec);
-  if (ec) {
-    fs::remove(temporary, ec);
-    throw std::runtime_error(file.string() + ": could not move the finished file into place");
-  }
+  staged_.clear();
 }
 
-void write_json(const fs::path& file, const nlohmann::json& json) { write_text_atomically(file, json.dump(2) + "\n"); }
+void report_repairs(const Scene& scene, bool quiet) {
+  if (quiet || scene.repairs.empty()) return;
+  std::string line;
+  for (const std::string& repair : scene.repairs) line += (line.empty() ? "" : "; ") + repair;
+  std::fprintf(stderr, "epi: repaired while loading: %s\n", line.c_str());
+}
 
 }  // namespace epi::cli

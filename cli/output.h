@@ -1,11 +1,20 @@
-// Small pieces the subcommands share: a progress bar for terminals, and atomic file output.
+// Small pieces the subcommands share: a progress bar for terminals, output-path checks, and
+// staged output (every file written beside its target first, moved into place only when all
+// of a command's outputs are complete, so a failure leaves nothing behind).
 #pragma once
 
 #include <chrono>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "image/image.h"
+
+namespace epi {
+struct Scene;
+}
 
 namespace epi::cli {
 
@@ -26,12 +35,38 @@ class ProgressBar {
   std::chrono::steady_clock::time_point start_;
 };
 
-// Writes text to `file` through a temporary file beside it, renamed when complete.
-// Throws std::runtime_error("<file>: <problem>").
-void write_text_atomically(const std::filesystem::path& file, const std::string& text);
-void write_json(const std::filesystem::path& file, const nlohmann::json& json);
+// Throws std::runtime_error("<file>: <problem>") unless `file` can be written: its folder
+// exists and is writable, and the file is not a folder (nor an existing read-only file).
+// Call for every output before long work starts.
+void check_output_file(const std::filesystem::path& file);
+// The same, plus a supported image extension (io/image).
+void check_output_image(const std::filesystem::path& file);
 
-// Throws if `file`'s folder does not exist (checked before long work starts).
-void check_output_folder(const std::filesystem::path& file);
+// A command's outputs. Each add_* writes a temporary file beside its target at once (throws
+// "<file>: <problem>" on failure); commit() moves them all into place. Destroyed without
+// commit() (an exception on the way), it removes every temporary file: nothing is left.
+class StagedOutputs {
+ public:
+  StagedOutputs() = default;
+  StagedOutputs(const StagedOutputs&) = delete;
+  StagedOutputs& operator=(const StagedOutputs&) = delete;
+  ~StagedOutputs();
+
+  void add_text(const std::filesystem::path& file, const std::string& text);
+  void add_json(const std::filesystem::path& file, const nlohmann::json& json);
+  void add_image(const std::filesystem::path& file, const RgbImage& image, float exposure = 0.0f);
+  void commit();
+
+ private:
+  std::filesystem::path temporary_for(const std::filesystem::path& file);
+  struct Staged {
+    std::filesystem::path temporary, target;
+  };
+  std::vector<Staged> staged_;
+};
+
+// One line on stderr with the repairs made while loading (degenerate triangles dropped, zero
+// normals replaced), unless quiet or there were none.
+void report_repairs(const Scene& scene, bool quiet);
 
 }  // namespace epi::cli

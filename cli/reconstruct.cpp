@@ -44,8 +44,8 @@ int run_reconstruct(const ReconstructOptions& options) {
   else if (options.filter == "rendercache") filter = Filter::rendercache;
   else throw std::invalid_argument("--filter must be epi or rendercache, got '" + options.filter + "'");
   if (options.output.empty()) throw std::invalid_argument("missing output file (-o)");
-  check_output_path(options.output);
-  if (!options.stats.empty()) check_output_folder(options.stats);
+  check_output_image(options.output);
+  if (!options.stats.empty()) check_output_file(options.stats);
   if (options.threads < 0) throw std::invalid_argument("--threads must be >= 0");
 
   const auto start = Clock::now();
@@ -71,7 +71,8 @@ int run_reconstruct(const ReconstructOptions& options) {
   const double reconstruct_ms = ms_since(stage);
 
   stage = Clock::now();
-  write_image(options.output, result.image);
+  StagedOutputs outputs;
+  outputs.add_image(options.output, result.image);
   const double write_ms = ms_since(stage);
 
   if (!options.stats.empty()) {
@@ -95,8 +96,9 @@ int run_reconstruct(const ReconstructOptions& options) {
         {"mean_abs_error", {{"all_pixels", mean_abs_error(result.image, exact, nullptr)},
                             {"edge_pixels", mean_abs_error(result.image, exact, &edge_mask)}}},
     };
-    write_json(options.stats, stats);
+    outputs.add_json(options.stats, stats);
   }
+  outputs.commit();
   if (!options.quiet)
     std::printf("%dx%d, %zu edges, %lld samples, %lld simple / %lld complex pixels: reconstructed (%s) in %.1f ms, total %.1f ms -> %s\n",
                 pattern.width, pattern.height, edges.size(), (long long)samples, (long long)result.counts.simple,

@@ -33,6 +33,26 @@ ShaderKind shader_kind(const std::string& name) {
 
 }  // namespace
 
+ShaderSettings shader_settings(const RenderOptions& options) {
+  ShaderSettings settings = options.shading;
+  settings.kind = shader_kind(options.shader);
+  settings.seed = options.seed;
+  const struct {
+    const char* flag;
+    int value, low, high;
+  } counts[] = {{"--area-light-samples", settings.area_light_samples, 1, 4096},
+                {"--glossy-samples", settings.glossy_samples, 0, 4096},
+                {"--glossy-light-samples", settings.glossy_light_samples, 0, 4096},
+                {"--gi-paths", settings.gi_paths, 0, 4096},
+                {"--gi-light-samples", settings.gi_light_samples, 0, 4096},
+                {"--gi-max-bounces", settings.gi_max_bounces, 0, 64}};
+  for (const auto& c : counts)
+    if (c.value < c.low || c.value > c.high)
+      throw std::invalid_argument(std::string(c.flag) + " " + std::to_string(c.value) + " is not in [" +
+                                  std::to_string(c.low) + ", " + std::to_string(c.high) + "]");
+  return settings;
+}
+
 Camera apply_camera_override(const Scene& scene, const CameraOverride& override_) {
   Camera camera = scene.cameras.empty() ? Camera{} : scene.cameras.front();
   if (override_.eye) camera.eye = *override_.eye;
@@ -48,8 +68,9 @@ int run_render(const RenderOptions& options) {
 #endif
   const auto start = Clock::now();
   // Fail on a bad output path before any long work.
-  check_output_path(options.output);
-  if (!options.stats.empty()) check_output_folder(options.stats);
+  check_output_image(options.output);
+  if (!options.stats.empty()) check_output_file(options.stats);
+  const ShaderSettings settings = shader_settings(options);
 
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
@@ -61,6 +82,7 @@ int run_render(const RenderOptions& options) {
   load_options.subdiv_level_override = options.subdiv_level;
   const Scene scene = load_scene(options.scene, load_options);
   const double load_ms = ms_since(stage);
+  report_repairs(scene, options.quiet);
 
   View view;
   view.camera = apply_camera_override(scene, options.camera);
@@ -70,9 +92,6 @@ int run_render(const RenderOptions& options) {
 
   stage = Clock::now();
   const RayScene ray_scene(scene);
-  ShaderSettings settings;
-  settings.kind = shader_kind(options.shader);
-  settings.seed = options.seed;
   const Shader shader(ray_scene, settings);
   const double build_ms = ms_since(stage);
 
@@ -89,7 +108,8 @@ int run_render(const RenderOptions& options) {
   const double mrays_per_s = render_stats.mrays_per_second();
 
   stage = Clock::now();
-  write_image(options.output, image);
+  StagedOutputs outputs;
+  outputs.add_image(options.output, image, options.exposure);
   const double write_ms = ms_since(stage);
   const double total_ms = ms_since(start);
 
@@ -97,8 +117,6 @@ int run_render(const RenderOptions& options) {
               view.height, options.mode.c_str(), spp, options.shader.c_str(), threads, scene.triangle_count());
   std::printf("  load %.0f ms | ray scene %.0f ms | render %.0f ms (%.1f Mrays/s) | write %.0f ms | total %.0f ms\n",
               load_ms, build_ms, render_ms, mrays_per_s, write_ms, total_ms);
-  std::printf("  wrote %s\n", options.output.c_str());
-
   if (!options.stats.empty()) {
     nlohmann::json stats = {
         {"scene", options.scene},
@@ -114,8 +132,10 @@ int run_render(const RenderOptions& options) {
         {"mrays_per_s", mrays_per_s},
         {"stages_ms", {{"load", load_ms}, {"build", build_ms}, {"render", render_ms}, {"write", write_ms}, {"total", total_ms}}},
     };
-    write_json(options.stats, stats);
+    outputs.add_json(options.stats, stats);
   }
+  outputs.commit();
+  std::printf("  wrote %s%s%s\n", options.output.c_str(), options.stats.empty() ? "" : " and ", options.stats.c_str());
   return 0;
 }
 

@@ -1,6 +1,7 @@
 #include "shade/shader.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -449,6 +450,7 @@ void Shader::shade(const ViewFrame& frame, std::span<const ShadeRequest> request
     std::vector<BlockerTriple> triples;
     uint64_t rays;
   };
+  const auto start = std::chrono::steady_clock::now();
   const size_t base = out.results.size();
   out.results.resize(base + requests.size());
   tbb::concurrent_vector<Chunk> chunks;
@@ -472,6 +474,8 @@ void Shader::shade(const ViewFrame& frame, std::span<const ShadeRequest> request
   }
   out.rays += rays;
   add_rays(rays);
+  const auto elapsed = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start);
+  shading_ns_.fetch_add(uint64_t(elapsed.count()), std::memory_order_relaxed);
 }
 
 }  // namespace epi

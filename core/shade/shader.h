@@ -81,6 +81,10 @@ class Shader {
   const RayScene& ray_scene() const { return scene_; }
   uint64_t rays_traced() const { return rays_traced_.load(std::memory_order_relaxed); }  // since construction
   void add_rays(uint64_t n) const { rays_traced_.fetch_add(n, std::memory_order_relaxed); }
+  // Wall-clock time spent inside shade() since construction (summed over calls, which may
+  // overlap when several threads call it); rays_traced() / shading_seconds() is the
+  // shader's ray rate while it works.
+  double shading_seconds() const { return double(shading_ns_.load(std::memory_order_relaxed)) * 1e-9; }
 
  private:
   struct Surface;
@@ -88,6 +92,7 @@ class Shader {
   const RayScene& scene_;
   ShaderSettings settings_;
   mutable std::atomic<uint64_t> rays_traced_{0};
+  mutable std::atomic<uint64_t> shading_ns_{0};
 };
 
 }  // namespace epi

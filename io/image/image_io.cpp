@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <unistd.h>
 
@@ -28,7 +29,6 @@ constexpr std::array kEightBitExtensions = {".png", ".jpg", ".jpeg", ".tif", ".t
 }
 
 float linear_to_srgb(float v) {
-  v = std::clamp(v, 0.0f, 1.0f);
   return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
@@ -37,6 +37,24 @@ float srgb_to_linear(float v) {
 }
 
 }  // namespace
+
+void tone_map(const float* linear, float exposure_stops, float* display) {
+  const float scale = std::exp2(exposure_stops);
+  float rgb[3];
+  for (int c = 0; c < 3; ++c) {
+    const float v = linear[c] * scale;
+    rgb[c] = std::isfinite(v) && v > 0.0f ? v : 0.0f;  // NaN and -inf to 0; +inf handled below
+    if (v == std::numeric_limits<float>::infinity()) rgb[c] = std::numeric_limits<float>::max();
+  }
+  const float m = std::max({rgb[0], rgb[1], rgb[2]});
+  float gain = 1.0f;
+  if (m > kShoulderKnee) {
+    const double x = (double(m) - kShoulderKnee) / (1.0 - kShoulderKnee);
+    const double shoulder = kShoulderKnee + (1.0 - kShoulderKnee) * (x / (1.0 + x));
+    gain = float(shoulder / double(m));
+  }
+  for (int c = 0; c < 3; ++c) display[c] = std::clamp(rgb[c] * gain, 0.0f, 1.0f);
+}
 
 bool is_linear_format(const fs::path& file) {
   const std::string ext = lower_extension(file);
@@ -54,7 +72,7 @@ void check_output_path(const fs::path& file) {
   if (fs::is_directory(file, ec)) fail(file, "is a folder");
 }
 
-void write_image(const fs::path& file, const RgbImage& image) {
+void write_image(const fs::path& file, const RgbImage& image, const ImageWriteOptions& options) {
   check_output_path(file);
   if (image.width <= 0 || image.height <= 0) fail(file, "empty image");
   const bool linear = is_linear_format(file);
@@ -71,8 +89,11 @@ void write_image(const fs::path& file, const RgbImage& image) {
       ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
     } else {
       std::vector<uint8_t> bytes(image.pixels.size());
-      for (size_t i = 0; i < bytes.size(); ++i)
-        bytes[i] = uint8_t(std::lround(linear_to_srgb(image.pixels[i]) * 255.0f));
+      for (size_t i = 0; i < bytes.size(); i += 3) {
+        float display[3];
+        tone_map(&image.pixels[i], options.exposure, display);
+        for (int c = 0; c < 3; ++c) bytes[i + c] = uint8_t(std::lround(linear_to_srgb(display[c]) * 255.0f));
+      }
       ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
     }
     ok = out->close() && ok;

@@ -1,6 +1,6 @@
 // Image files through OpenImageIO. The format follows the file extension:
-// .exr (and .hdr) keep linear float RGB; .png, .jpg, .tif, .ppm, .bmp get 8-bit sRGB
-// after a plain clamp to [0, 1] (a documented, invertible-below-1 tone map).
+// .exr (and .hdr) keep linear float RGB, untouched; .png, .jpg, .tif, .ppm, .bmp get 8-bit sRGB
+// after the display tone map below (docs/scene-format.md, "Image output").
 #pragma once
 
 #include <filesystem>
@@ -15,6 +15,21 @@ struct ImageIOError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The display tone map of the 8-bit formats, per pixel, on linear RGB:
+//  1. exposure: multiply by 2^exposure_stops;
+//  2. highlight shoulder on the largest channel m: identity up to kShoulderKnee (0.8), above it
+//     m' = k + (1 - k) * x / (1 + x) with x = (m - k) / (1 - k), which is continuous with slope 1
+//     at the knee and tends to 1; the three channels are scaled by m'/m, so hue and saturation
+//     stay (a plain clamp turns bright colours white or shifts their hue);
+//  3. negative and non-finite channels become 0.
+// The result is in [0, 1]; sRGB encoding follows.
+constexpr float kShoulderKnee = 0.8f;
+void tone_map(const float* linear, float exposure_stops, float* display);
+
+struct ImageWriteOptions {
+  float exposure = 0.0f;  // stops, for the 8-bit formats (linear formats are written untouched)
+};
+
 // True for extensions that keep linear floats.
 bool is_linear_format(const std::filesystem::path& file);
 
@@ -24,7 +39,7 @@ void check_output_path(const std::filesystem::path& file);
 
 // Writes atomically: a temporary file beside `file`, renamed into place only when complete.
 // The bytes depend only on the pixels (no timestamp), so equal images give equal files.
-void write_image(const std::filesystem::path& file, const RgbImage& image);
+void write_image(const std::filesystem::path& file, const RgbImage& image, const ImageWriteOptions& options = {});
 
 // Reads any format OpenImageIO knows into linear RGB (8-bit formats are decoded from sRGB).
 RgbImage read_image(const std::filesystem::path& file);
