@@ -174,6 +174,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       if (!points_[i].valid) free_slots_.push_back(uint32_t(i));
   }
   last_frame_.emplace(frame);
+  last_transforms_.assign(object_to_world.begin(), object_to_world.end());
   return {counts.projected, cull_counts.first, cull_counts.second, counts.expired};
 }
 
@@ -203,7 +204,9 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
       if (!inverted[r.object]) to_object[r.object] = glm::inverse(object_to_world[r.object]), inverted[r.object] = 1;
       point.object = r.object;
       point.local = glm::vec3(to_object[r.object] * glm::vec4(r.position, 1.0f));
-      world = r.position;
+      // Where the point was at the last projection (its object may have moved since the shot).
+      world = r.object < last_transforms_.size() ? glm::vec3(last_transforms_[r.object] * glm::vec4(point.local, 1.0f))
+                                                 : r.position;
     } else {
       point.object = kNone;
       point.local = shot.ray(r.x, r.y).direction;

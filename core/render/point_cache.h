@@ -62,7 +62,9 @@ class PointCache {
   // by object_to_world[o]), then runs the depth cull. Fills image().
   ProjectionCounts project(const ViewFrame& frame, std::span<const glm::mat4> object_to_world);
 
-  // Integrates shading results made for `shot` (its camera gives misses their direction). A result
+  // Integrates shading results made for `shot` (its camera gives misses their direction) and traced
+  // with objects placed by object_to_world (the hit positions are converted to object space with
+  // it, so they then move with their object). A result
   // replaces the point drawn at its pixel in the last projection when that point is the same
   // surface; otherwise it takes a free slot, or the next slot in round-robin order. When the
   // replaced point's colour differs noticeably, the points around it are aged (shading changed).
@@ -95,6 +97,7 @@ class PointCache {
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull
   float background_depth_ = 1e6f;  // where background points are placed along their direction
   std::optional<ViewFrame> last_frame_;
+  std::vector<glm::mat4> last_transforms_;  // the placement of the last projection
 };
 
 }  // namespace epi::render

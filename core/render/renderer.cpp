@@ -43,6 +43,7 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
     throw std::invalid_argument("sample budget " + std::to_string(settings.sample_budget) + " is not in (0, 1]");
   transforms_.reserve(scene.objects.size());
   for (uint32_t o = 0; o < scene.objects.size(); ++o) transforms_.push_back(ray_scene.object_to_world(o));
+  placement_ = std::make_shared<const std::vector<glm::mat4>>(transforms_);
   if (settings.mode == RenderMode::epi && (settings.view_edges || settings.shadow_edges)) {
     finder_ = std::make_unique<edges::SceneEdgeFinder>(scene);
     edge_scene_.source = scene.source;
@@ -51,7 +52,8 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
     edge_scene_.area_lights = scene.area_lights;
     for (const Object& o : scene.objects) load_transforms_.push_back(o.object_to_world);
   }
-  if (!settings.sync) async_ = std::make_unique<AsyncShader>(shader, settings.shader_threads);
+  if (!settings.sync)
+    async_ = std::make_unique<AsyncShader>(shader, settings.shader_threads, 1024, settings.before_shading_slice);
 }
 
 FrameRenderer::~FrameRenderer() = default;  // the AsyncShader drops pending work and joins
@@ -66,20 +68,24 @@ void FrameRenderer::apply_transforms(std::span<const glm::mat4> object_to_world)
   if (object_to_world.size() != transforms_.size())
     throw std::invalid_argument("frame renderer: " + std::to_string(object_to_world.size()) + " object transforms for " +
                                 std::to_string(transforms_.size()) + " objects");
-  bool moved = false;
-  for (uint32_t o = 0; o < transforms_.size(); ++o) {
-    if (object_to_world[o] == transforms_[o]) continue;
-    transforms_[o] = object_to_world[o];
-    moved = true;
-    if (async_) {
-      async_->run_between_batches([&rs = ray_scene_, o, m = object_to_world[o]] { rs.set_object_transform(o, m); });
-    } else {
-      ray_scene_.set_object_transform(o, object_to_world[o]);
-    }
+  std::vector<std::pair<uint32_t, glm::mat4>> moves;
+  for (uint32_t o = 0; o < transforms_.size(); ++o)
+    if (object_to_world[o] != transforms_[o]) moves.push_back({o, object_to_world[o]}), transforms_[o] = object_to_world[o];
+  if (moves.empty()) return;
+  // Shots submitted from now on record the new placement; earlier ones keep theirs, and their
+  // results are placed with it (the hit was there), so they then move with their object.
+  placement_ = std::make_shared<const std::vector<glm::mat4>>(transforms_);
+  if (!async_) {
+    for (const auto& [o, m] : moves) ray_scene_.set_object_transform(o, m);
+    return;
   }
-  // Results shaded against the old placement would put points in the wrong place.
-  if (moved) ++placement_;
-  if (moved && async_) async_->cancel_pending();
+  // Async: a shot must be traced against the placement it records. Cancel the requests not yet
+  // started first, so none of them can be traced after the move; the slice in flight finishes
+  // against the old placement (its shot's), and the move runs before any later slice.
+  async_->cancel_pending();
+  async_->run_between_batches([&rs = ray_scene_, moves = std::move(moves)] {
+    for (const auto& [o, m] : moves) rs.set_object_transform(o, m);
+  });
 }
 
 void FrameRenderer::integrate(const ShadeBatch& batch) {
@@ -93,14 +99,14 @@ void FrameRenderer::integrate(const ShadeBatch& batch) {
     size_t end = begin + 1;
     if (shot != shots_.end())
       while (end < batch.results.size() && batch.results[end].id - shot->first_id < shot->count) ++end;
-    if (shot != shots_.end() && shot->placement == placement_) {
+    if (shot != shots_.end()) {
       if (finder_ && settings_.shadow_edges)
         for (size_t k = begin; k < end; ++k)
           for (const BlockerTriple& t : batch.triples_of(batch.results[k]))
             if (t.blocker < transforms_.size() && t.receiver < transforms_.size())
-              triples_.insert({t.light, t.blocker, t.receiver});
+              triples_[{t.light, t.blocker, t.receiver}] = frame_;
       part.results.assign(batch.results.begin() + ptrdiff_t(begin), batch.results.begin() + ptrdiff_t(end));
-      stats_.samples += cache_.insert(shot->frame, part, transforms_);
+      stats_.samples += cache_.insert(shot->frame, part, *shot->placement);
     }
     begin = end;
   }
@@ -172,7 +178,11 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
   make_requests(dither_pixels(priority, w, h, main_budget), w, settings_.seed, uint64_t(frame_) * 2, 0, shot.requests);
   shots.insert(shots.begin(), std::move(shot));
 
-  // Ids, and the record of which view each id was made for.
+  // Async: the shader may get through only a prefix before the next frame cancels the rest, so
+  // the requests go in a shuffled order (see render() for the interleaving of the shots).
+  if (async_)
+    for (size_t k = 0; k < shots.size(); ++k) shuffle_requests(shots[k].requests, settings_.seed, uint64_t(frame_) * 2 + k);
+  // Ids, and the record of which view and placement each id was made for.
   for (NewShot& s : shots) {
     for (ShadeRequest& r : s.requests) r.id = next_id_++;
     stats_.requested += s.requests.size();
@@ -200,7 +210,11 @@ void FrameRenderer::find_and_rasterize_edges(const ViewFrame& frame) {
   edges_.clear();
   if (settings_.view_edges) finder_->view_edges(edge_scene_, glm::dvec3(frame.eye()), edges_);
   if (settings_.shadow_edges && !triples_.empty()) {
-    const std::vector<edges::LightBlockerReceiver> triples(triples_.begin(), triples_.end());
+    // A triple not reported for longer than a point lives backs no point in the cache any more.
+    std::erase_if(triples_, [this](const auto& t) { return frame_ - t.second > cache_.settings().max_age; });
+    std::vector<edges::LightBlockerReceiver> triples;
+    triples.reserve(triples_.size());
+    for (const auto& t : triples_) triples.push_back(t.first);
     finder_->shadow_edges(edge_scene_, triples, edges_);
   }
   stats_.ms.find_edges = ms_since(t);
@@ -284,10 +298,17 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
     const auto ts = Clock::now();
     std::vector<NewShot> shots = choose_requests(frame, reconstruction_.priority);
     async_->cancel_pending();
-    for (NewShot& s : shots) async_->submit(s.frame.view(), std::move(s.requests));
+    // Main and predicted requests interleaved in proportion, in rounds of a quarter slice.
+    std::vector<size_t> sizes;
+    for (const NewShot& s : shots) sizes.push_back(s.requests.size());
+    for (const SubmissionPart& part : interleave_shots(sizes, 256)) {
+      const std::vector<ShadeRequest>& requests = shots[part.shot].requests;
+      async_->submit(shots[part.shot].frame.view(), {requests.begin() + ptrdiff_t(part.begin), requests.begin() + ptrdiff_t(part.end)});
+    }
     sampling_ms += ms_since(ts);
   }
   stats_.ms.sampling = sampling_ms;
+  if (stats_.samples > 0) stats_.sparseness = double(settings_.width) * double(settings_.height) / double(stats_.samples);
   previous_camera_ = std::make_unique<Camera>(camera);
   ++frame_;
   stats_.ms.total = ms_since(start);

@@ -7,11 +7,12 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
+#include <limits>
+#include <map>
 #include <memory>
 #include <span>
 #include <vector>
-
-#include <set>
 
 #include "edges/scene_edges.h"
 #include "epi/reconstruct.h"
@@ -46,6 +47,8 @@ struct FrameSettings {
   bool shadow_edges = true;     // from the light-blocker-receiver triples the shader reports
   bool occlusion_culling = true;
   DepthFilterSettings depth_filter;
+  // Tests only: runs on the shading thread before each slice of async work (see AsyncShader).
+  std::function<void()> before_shading_slice;
 };
 
 // Per-stage wall time of one frame, ms (the paper's table 2).
@@ -67,6 +70,9 @@ struct FrameStats {
   size_t samples = 0;    // shading results integrated into the cache this frame
   size_t requested = 0;  // requests made this frame (incl. predicted)
   size_t predicted = 0;  // of which for predicted gaps
+  // Pixels per new sample this frame; +infinity when no sample was integrated (not 0: 0 would
+  // read as "densest possible").
+  double sparseness = std::numeric_limits<double>::infinity();
 };
 
 class FrameRenderer {
@@ -95,10 +101,11 @@ class FrameRenderer {
   size_t pending_requests() const { return async_ ? async_->pending_requests() : 0; }  // async: not yet shaded
 
  private:
+  using Placement = std::shared_ptr<const std::vector<glm::mat4>>;  // object_to_world per object
   struct Shot {  // a batch of requests, the view they were made for, and the object placement
     uint32_t first_id = 0, count = 0;
     ViewFrame frame;
-    uint32_t placement = 0;  // placement_ when submitted
+    Placement placement;  // the transforms its requests are traced with (shared while nothing moves)
   };
   struct NewShot {
     ViewFrame frame;
@@ -122,14 +129,14 @@ class FrameRenderer {
   Reconstruction reconstruction_;
   std::vector<glm::mat4> transforms_;
   std::deque<Shot> shots_;
-  uint32_t placement_ = 0;  // counts object moves; results shaded before a move are dropped
+  Placement placement_;  // a snapshot of transforms_, renewed when an object moves
   uint32_t next_id_ = 0;
   std::unique_ptr<Camera> previous_camera_;
   // epi mode: the edge finder sees a light copy of the scene (objects, lights) placed as now.
   std::unique_ptr<edges::SceneEdgeFinder> finder_;
   Scene edge_scene_;
   std::vector<glm::mat4> load_transforms_;
-  std::set<edges::LightBlockerReceiver> triples_;
+  std::map<edges::LightBlockerReceiver, int> triples_;  // -> the last frame a result reported it
   std::vector<edges::SceneEdge> edges_;
   std::vector<Segment> segments_;
   std::vector<edges::EdgeKind> segment_kinds_;

@@ -179,6 +179,28 @@ void make_requests(std::span<const uint32_t> pixels, int width, uint64_t seed, u
   }
 }
 
+void shuffle_requests(std::vector<ShadeRequest>& requests, uint64_t seed, uint64_t frame) {
+  uint64_t state = splitmix64(seed ^ splitmix64(frame ^ 0x243f6a8885a308d3ull));
+  for (size_t k = requests.size(); k > 1; --k) {
+    state = splitmix64(state);
+    const size_t j = size_t((unsigned __int128)state * k >> 64);  // uniform in [0, k)
+    std::swap(requests[k - 1], requests[j]);
+  }
+}
+
+std::vector<SubmissionPart> interleave_shots(std::span<const size_t> shot_sizes, size_t round_size) {
+  size_t total = 0;
+  for (size_t n : shot_sizes) total += n;
+  const size_t rounds = std::max<size_t>(1, (total + std::max<size_t>(1, round_size) - 1) / std::max<size_t>(1, round_size));
+  std::vector<SubmissionPart> parts;
+  for (size_t r = 0; r < rounds; ++r)
+    for (size_t s = 0; s < shot_sizes.size(); ++s) {
+      const size_t begin = shot_sizes[s] * r / rounds, end = shot_sizes[s] * (r + 1) / rounds;
+      if (end > begin) parts.push_back({s, begin, end});
+    }
+  return parts;
+}
+
 Camera extrapolate_camera(const Camera& previous, const Camera& current, float ahead) {
   Camera c = current;
   c.eye = current.eye + ahead * (current.eye - previous.eye);

@@ -24,6 +24,17 @@ std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, 
 void make_requests(std::span<const uint32_t> pixels, int width, uint64_t seed, uint64_t frame, uint32_t first_id,
                    std::vector<ShadeRequest>& out);
 
+// The order in which a frame's requests go to the asynchronous shader, which may shade only a
+// prefix before the next frame cancels the rest: each shot's requests are shuffled by a hash of
+// (seed, frame) (Fisher-Yates), and the shots are cut into rounds of about round_size requests,
+// each round holding every shot's next slice in proportion to its size. So every prefix is spread
+// over the image and over the predicted gaps.
+void shuffle_requests(std::vector<ShadeRequest>& requests, uint64_t seed, uint64_t frame);
+struct SubmissionPart {
+  size_t shot = 0, begin = 0, end = 0;  // requests [begin, end) of shot
+};
+std::vector<SubmissionPart> interleave_shots(std::span<const size_t> shot_sizes, size_t round_size);
+
 // The camera `ahead` frames later if it keeps moving as from `previous` to `current` (eye and
 // target extrapolated linearly, up and field of view kept).
 Camera extrapolate_camera(const Camera& previous, const Camera& current, float ahead);

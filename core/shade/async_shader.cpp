@@ -4,9 +4,10 @@
 
 namespace epi {
 
-AsyncShader::AsyncShader(const Shader& shader, int threads, size_t slice_size)
+AsyncShader::AsyncShader(const Shader& shader, int threads, size_t slice_size, std::function<void()> before_slice)
     : shader_(shader),
       slice_size_(std::max<size_t>(slice_size, 1)),
+      before_slice_(std::move(before_slice)),
       arena_(std::make_unique<tbb::task_arena>(threads > 0 ? threads : int(tbb::task_arena::automatic))),
       worker_([this] { run(); }) {}
 
@@ -75,6 +76,7 @@ size_t AsyncShader::pending_requests() const {
 
 void AsyncShader::run() {
   std::unique_lock lock(mutex_);
+  bool gate_passed = false;  // before_slice_ ran for the next slice
   while (true) {
     work_ready_.wait(lock, [this] { return stopping_ || !jobs_.empty() || !updates_.empty(); });
     if (stopping_) return;
@@ -85,7 +87,14 @@ void AsyncShader::run() {
       lock.unlock();
       for (auto& update : updates) update();
       lock.lock();
+    } else if (before_slice_ && !gate_passed) {
+      // The test hook; then back to the top: updates queued meanwhile run before the slice.
+      lock.unlock();
+      before_slice_();
+      lock.lock();
+      gate_passed = true;
     } else {
+      gate_passed = false;
       // Take one slice off the front job.
       Job& job = jobs_.front();
       const ViewFrame frame = job.frame;

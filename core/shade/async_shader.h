@@ -21,7 +21,10 @@ class AsyncShader {
  public:
   // threads: TBB concurrency of the shading worker (0: all cores). A batch is shaded in
   // slices of slice_size requests, so results trickle out while a large batch runs.
-  explicit AsyncShader(const Shader& shader, int threads = 0, size_t slice_size = 1024);
+  // before_slice (tests): runs on the shading thread, without locks, before each slice is taken;
+  // a test holds the shader by blocking in it.
+  explicit AsyncShader(const Shader& shader, int threads = 0, size_t slice_size = 1024,
+                       std::function<void()> before_slice = {});
   ~AsyncShader();  // drops pending work, finishes the slice in flight, joins
   AsyncShader(const AsyncShader&) = delete;
   AsyncShader& operator=(const AsyncShader&) = delete;
@@ -51,6 +54,7 @@ class AsyncShader {
 
   const Shader& shader_;
   size_t slice_size_;
+  std::function<void()> before_slice_;
   std::unique_ptr<tbb::task_arena> arena_;
   mutable std::mutex mutex_;
   std::condition_variable work_ready_, idle_;

@@ -2,6 +2,11 @@
 // determinism of --sync, the exact budget, error falling with a still camera, moving objects,
 // the asynchronous shader, and the staged reconstructor against core/epi's oracle.
 #include <algorithm>
+#include <array>
+#include <atomic>
+#include <condition_variable>
+#include <future>
+#include <mutex>
 #include <chrono>
 #include <cstdio>
 #include <cmath>
@@ -147,20 +152,6 @@ TEST(FrameLoop, AMovedObjectLeavesNoStalePoints) {
   ASSERT_GT(old_pixels, 100u);
   EXPECT_EQ(stale, 0u);
   EXPECT_LT(error / double(old_pixels * 3), 0.05);
-}
-
-TEST(FrameLoop, AsyncShaderFillsTheCacheWithoutHoldingFramesBack) {
-  Fixture f;
-  FrameRenderer renderer(f.scene, f.ray_scene, f.shader, small_settings(RenderMode::epi, false));
-  const Camera camera = f.scene.cameras[0];
-  size_t samples = 0;
-  for (int k = 0; k < 400 && renderer.cache().valid_points() < 64 * 64 / 2; ++k) {
-    renderer.render(camera);
-    samples += renderer.stats().samples;
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  EXPECT_GE(renderer.cache().valid_points(), size_t(64 * 64 / 2));
-  EXPECT_GE(samples, renderer.cache().valid_points());  // replaced points do not count twice
 }
 
 // Random edges and samples: the staged reconstructor equals core/epi's oracle bit for bit.
@@ -365,21 +356,134 @@ TEST(FrameLoop, PredictiveSamplingFillsTheStripThatOpens) {
 namespace epi::render {
 namespace {
 
-// With an expensive shader, frames return while their requests are still being shaded: the loop
-// does not wait (no timing involved: the shader's queue is observed non-empty after a frame).
-TEST(FrameLoop, FramesDoNotWaitForAnExpensiveShader) {
-  Scene scene = plane_and_box();
-  RayScene ray_scene(scene);
-  ShaderSettings slow;
-  slow.kind = ShaderKind::gi, slow.gi_paths = 256;
-  Shader shader(ray_scene, slow);
-  FrameRenderer renderer(scene, ray_scene, shader, small_settings(RenderMode::epi, false));
-  bool returned_with_work_pending = false;
-  for (int k = 0; k < 5; ++k) {
-    renderer.render(scene.cameras[0]);
-    returned_with_work_pending |= renderer.pending_requests() > 0;
+// A shader held by the test (the shading thread blocks before its first slice until released):
+// frames must keep returning. They run on a std::async so that a regression (a frame waiting for
+// the shader) fails the test after the timeout instead of hanging it.
+TEST(FrameLoop, FramesReturnWhileTheShaderIsHeld) {
+  Fixture f;
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<int> entered{0};
+  FrameSettings s = small_settings(RenderMode::epi, false);
+  s.before_shading_slice = [&] {
+    ++entered;
+    released.wait();
+  };
+  FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+  Camera camera = f.scene.cameras[0];
+  auto frames = std::async(std::launch::async, [&] {
+    for (int k = 0; k < 6; ++k) {
+      camera.eye.x += 0.05f;
+      renderer.render(camera);
+    }
+  });
+  const bool returned = frames.wait_for(std::chrono::seconds(20)) == std::future_status::ready;
+  const int entered_while_held = entered.load();
+  release.set_value();
+  frames.wait();
+  EXPECT_TRUE(returned) << "frames waited for the held shader";
+  EXPECT_EQ(entered_while_held, 1);  // the shader was blocked the whole time, before any slice
+  EXPECT_EQ(renderer.cache().valid_points(), 0u);
+  EXPECT_GT(renderer.pending_requests(), 0u);
+}
+
+// Waits (bounded) until the asynchronous shader has shaded everything submitted.
+void wait_for_shader(const FrameRenderer& renderer) {
+  for (int k = 0; k < 20000 && renderer.pending_requests() > 0; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  std::this_thread::sleep_for(std::chrono::milliseconds(2));  // the last slice's results are published after the count
+}
+
+// Async shading while the box moves every frame: results of every frame are integrated (not
+// dropped because something moved), each drawn point lies where ray casting the current placement
+// finds its surface, and no box point is drawn where the box no longer is.
+TEST(FrameLoop, AsyncWithAnObjectMovingEveryFrameIntegratesSamplesInPlace) {
+  Fixture f;
+  FrameSettings s = small_settings(RenderMode::epi, false);
+  s.sample_budget = 0.1;
+  FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+  const Camera camera = f.scene.cameras[0];
+  std::vector<glm::mat4> transforms = {glm::mat4(1.0f), glm::mat4(1.0f)};
+  Fixture now;  // the oracle: the scene as placed this frame
+  View view;
+  view.camera = camera, view.width = 64, view.height = 64;
+  const ViewFrame frame(view);
+  for (int k = 0; k < 24; ++k) {
+    transforms[1] = glm::translate(glm::mat4(1.0f), glm::vec3(0.12f * float(k), 0.04f * float(k), 0.0f));
+    renderer.render(camera, transforms);
+    if (k > 0) {
+      EXPECT_GT(renderer.stats().samples, 64u * 64u / 20) << "frame " << k;
+      EXPECT_LT(renderer.stats().sparseness, 20.0);
+    }
+    wait_for_shader(renderer);
   }
-  EXPECT_TRUE(returned_with_work_pending);
+  now.ray_scene.set_object_transform(1, transforms[1]);
+  const PointImage& image = renderer.cache().image();
+  size_t drawn = 0, on_surface = 0, box_drawn = 0, stale = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) {
+      const int32_t index = image.point[image.index(x, y)];
+      if (index < 0) continue;
+      const CachePoint& p = renderer.cache().points()[size_t(index)];
+      if (p.object == kNone) continue;
+      // The ray from the eye to the point finds the point's object at the point.
+      const glm::vec3 world = renderer.cache().world_position(p, frame, transforms);
+      const glm::vec3 to_point = world - frame.eye();
+      Ray ray;
+      ray.origin = frame.eye(), ray.direction = glm::normalize(to_point);
+      const RayHit hit = now.ray_scene.intersect(ray);
+      ++drawn;
+      on_surface += hit.hit && hit.object == p.object && std::abs(hit.t - glm::length(to_point)) < 1e-3f * glm::length(to_point);
+      if (p.object != 1) continue;
+      // A box point where the box is not (no box within a pixel of here): left where it was.
+      ++box_drawn;
+      bool box_near = false;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const RayHit h = now.ray_scene.intersect(frame.ray(float(x + dx) + 0.5f, float(y + dy) + 0.5f));
+          box_near |= h.hit && h.object == 1;
+        }
+      stale += !box_near;
+    }
+  EXPECT_GT(drawn, 64u * 64u / 2);
+  EXPECT_GT(box_drawn, 100u);
+  EXPECT_GE(double(on_surface), 0.97 * double(drawn));
+  EXPECT_EQ(stale, 0u);
+}
+
+// The shader gets through only the first slice of a frame's requests (a held shader, released
+// for one slice): that prefix must cover the whole image in proportion, not the top rows.
+TEST(FrameLoop, AsyncPrefixOfTheRequestsCoversTheWholeImage) {
+  Fixture f;
+  std::mutex mutex;
+  std::condition_variable changed;
+  int allowed = 1, entered = 0;
+  FrameSettings s = small_settings(RenderMode::rendercache, false);
+  s.width = s.height = 128, s.sample_budget = 0.5;  // 8192 requests: the first slice is an eighth
+  s.before_shading_slice = [&] {
+    std::unique_lock lock(mutex);
+    ++entered;
+    changed.notify_all();
+    changed.wait(lock, [&] { return entered <= allowed; });
+  };
+  FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+  renderer.render(f.scene.cameras[0]);
+  {
+    std::unique_lock lock(mutex);  // the first slice is shaded once the second is asked for
+    ASSERT_TRUE(changed.wait_for(lock, std::chrono::seconds(20), [&] { return entered == 2; }));
+  }
+  renderer.render(f.scene.cameras[0]);
+  const size_t shaded = renderer.stats().samples;
+  std::array<size_t, 4> quarters{};
+  for (const CachePoint& p : renderer.cache().points())
+    if (p.valid && p.image_id >= 0) ++quarters[size_t(p.image_id / 128 / 32)];
+  {
+    std::lock_guard lock(mutex);
+    allowed = 1 << 30;
+  }
+  changed.notify_all();
+  EXPECT_GT(shaded, 100u);
+  EXPECT_LE(shaded, 1024u);
+  for (size_t q = 0; q < 4; ++q) EXPECT_GE(double(quarters[q]), 0.5 * double(shaded) / 4.0) << "quarter " << q;
 }
 
 }  // namespace

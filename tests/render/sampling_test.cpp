@@ -1,6 +1,8 @@
 // Prioritized sampling: the dither's count, spread and proportionality; jittered requests;
 // camera extrapolation; predictive occupancy against a moving camera over a sampled plane.
 #include <algorithm>
+#include <cmath>
+#include <numeric>
 #include <random>
 #include <set>
 #include <vector>
@@ -62,6 +64,41 @@ TEST(Dither, PicksInProportionToPriority) {
   size_t left = 0, right = 0;
   for (uint32_t p : picked) (p % w < uint32_t(w / 2) ? left : right)++;
   EXPECT_NEAR(double(right) / double(left), 3.0, 0.25);
+}
+
+// Every prefix of the submission order holds each shot in proportion (to within a round), and
+// the shuffle is a permutation that spreads the first requests over the whole image.
+TEST(Submission, EveryPrefixHoldsEveryShotInProportionAndIsSpread) {
+  for (const std::vector<size_t>& sizes : {std::vector<size_t>{5000, 1200}, {7, 3000}, {0, 10}, {1000}, {300, 0, 77}}) {
+    const std::vector<SubmissionPart> parts = interleave_shots(sizes, 256);
+    std::vector<size_t> next(sizes.size(), 0);
+    size_t total = 0, done = 0;
+    for (size_t n : sizes) total += n;
+    for (const SubmissionPart& p : parts) {
+      ASSERT_EQ(p.begin, next[p.shot]);  // each shot in order, no gap, no overlap
+      ASSERT_GT(p.end, p.begin);
+      next[p.shot] = p.end, done += p.end - p.begin;
+      for (size_t s = 0; s < sizes.size(); ++s)  // in proportion, to within one round's share
+        EXPECT_LE(std::abs(double(next[s]) - double(sizes[s]) * double(done) / double(total)), double(sizes[s]) * 256.0 / double(total) + 1.0);
+    }
+    for (size_t s = 0; s < sizes.size(); ++s) EXPECT_EQ(next[s], sizes[s]);
+  }
+  const int w = 200, h = 100;
+  std::vector<uint32_t> all(size_t(w * h));
+  std::iota(all.begin(), all.end(), 0u);
+  std::vector<ShadeRequest> requests;
+  make_requests(all, w, 5, 2, 0, requests);
+  std::vector<ShadeRequest> shuffled = requests;
+  shuffle_requests(shuffled, 5, 2);
+  std::set<uint32_t> ids;
+  for (const ShadeRequest& r : shuffled) ids.insert(r.id);
+  EXPECT_EQ(ids.size(), requests.size());
+  std::vector<size_t> quarters(4, 0);  // the first 2% of the order, by quarter of the rows
+  for (size_t k = 0; k < requests.size() / 50; ++k) ++quarters[size_t(shuffled[k].y) / 25];
+  for (size_t q : quarters) EXPECT_GE(q, requests.size() / 50 / 4 / 2);
+  std::vector<ShadeRequest> again = requests;
+  shuffle_requests(again, 5, 2);
+  for (size_t k = 0; k < again.size(); ++k) EXPECT_EQ(again[k].id, shuffled[k].id);
 }
 
 TEST(Requests, JitteredInsideTheirPixelAndReproducible) {
