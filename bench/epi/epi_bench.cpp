@@ -39,6 +39,8 @@ struct Frame {
   RgbImage interpolated;          // render cache colours (input of anti-aliasing and complex)
   RgbImage primary;               // EPI interpolation (input of the fill step)
   std::vector<uint8_t> found;
+  std::vector<uint8_t> types;     // the pixel types (read-only plane)
+  TypePlane type_plane() const { return {types.data(), epi.width, epi.height}; }
   double floor_seconds = 0;  // streaming read+write of the 10-byte pixels, one thread
 };
 
@@ -93,12 +95,14 @@ Frame& frame(int w, int h) {
     sample_pattern(f->pattern, kDensity, 7, f->epi);
     f->interpolated = reconstruct_oracle(f->epi, f->masks, {Filter::rendercache, false, false}).image;
     reconstruct_oracle(f->epi, f->masks, {});
+    f->types.resize(size_t(w) * h);
+    for (size_t i = 0; i < f->types.size(); ++i) f->types[i] = uint8_t(pixel_type(f->epi.cache[i]));
     f->primary = RgbImage(w, h);
     f->found.resize(size_t(w) * h);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         bool found = false;
-        interpolate_pixel(f->epi, x, y, reach_mask(f->epi.cache[f->epi.index(x, y)]), f->primary.at(x, y), &found);
+        interpolate_pixel(f->epi, f->type_plane(), x, y, reach_mask(f->epi.cache[f->epi.index(x, y)]), f->primary.at(x, y), &found);
         f->found[f->epi.index(x, y)] = found;
       }
     f->floor_seconds = streaming_floor(f->epi);
@@ -193,7 +197,7 @@ void BM_Interpolate(benchmark::State& state) {
     run_rows(int(state.range(2)), f.epi.height, [&](int y0, int y1) {
       for (int y = y0; y < y1; ++y)
         for (int x = 0; x < f.epi.width; ++x)
-          interpolate_pixel(f.epi, x, y, reach_mask(f.epi.cache[f.epi.index(x, y)]), out.at(x, y));
+          interpolate_pixel(f.epi, f.type_plane(), x, y, reach_mask(f.epi.cache[f.epi.index(x, y)]), out.at(x, y));
     });
     benchmark::DoNotOptimize(out.pixels.data());
   });

@@ -74,22 +74,59 @@ int window_average(const EpiImage& epi, int x, int y, int r, float rgb[3]) {
   return count;
 }
 
-float interpolate_pixel(const EpiImage& epi, int x, int y, uint32_t reach, float rgb[3], bool* found) {
-  const size_t centre = epi.index(x, y);
-  const bool complex = edge_code(epi.edge[centre]) == kComplexCode;  // (the cache plane may be in flight)
-  float total;
-  if (complex) {
-    total = simple_estimate(epi, x, y, rgb);
-  } else {
-    total = weighted_sum(epi, x, y, window_mask(reach), bits::kUsable, rgb);
-    if (found) *found = total > 0;
-    if (total == 0 && simple_estimate(epi, x, y, rgb) > 0) return kMaxPriority;
+namespace {
+
+bool window_holds_edges(TypePlane types, int x, int y, int r) {
+  int any = 0;
+  for (int py = std::max(0, y - r); py <= std::min(types.height - 1, y + r); ++py)
+    for (int px = std::max(0, x - r); px <= std::min(types.width - 1, x + r); ++px)
+      any |= types.types[size_t(py) * size_t(types.width) + size_t(px)];
+  return any != kTypeEmpty;
+}
+
+bool reachable_fallback(const EpiImage& epi, TypePlane types, int x, int y, float rgb[3]) {
+  const uint64_t reach = reach_window7(types, x, y);
+  const auto& lut = srgb8_to_linear();
+  float sum[3] = {0, 0, 0}, total = 0;
+  for (int dy = std::max(-3, -y); dy <= std::min(3, epi.height - 1 - y); ++dy)
+    for (int dx = std::max(-3, -x); dx <= std::min(3, epi.width - 1 - x); ++dx) {
+      const size_t i = epi.index(x + dx, y + dy);
+      if (!((reach >> window7_bit(dx, dy)) & 1) || !usable_sample(epi.edge[i])) continue;
+      const float d = float(1 + dx * dx + dy * dy), w = 1.0f / (d * d);
+      const uint32_t c = epi.color[i];
+      sum[0] += w * lut[c & 255], sum[1] += w * lut[(c >> 8) & 255], sum[2] += w * lut[(c >> 16) & 255];
+      total += w;
+    }
+  if (total == 0) return false;
+  for (int k = 0; k < 3; ++k) rgb[k] = sum[k] / total;
+  return true;
+}
+
+}  // namespace
+
+void fallback_color(const EpiImage& epi, TypePlane types, int x, int y, float rgb[3]) {
+  if (reachable_fallback(epi, types, x, y, rgb)) return;
+  // Last resort. Only where the pixel's own 5x5 holds an edge (so it is at an edge, and its
+  // colour unknown either way) may colour come from unreachable samples; an edge-free 5x5 gets black.
+  if (window_holds_edges(types, x, y, 2)) {
+    if (simple_estimate(epi, x, y, rgb) > 0) return;
+    if (window_average(epi, x, y, 3, rgb) > 0) return;
   }
-  if (complex && found) *found = total > 0;
+  rgb[0] = rgb[1] = rgb[2] = 0.0f;
+}
+
+float interpolate_pixel(const EpiImage& epi, TypePlane types, int x, int y, uint32_t reach, float rgb[3],
+                        bool* found) {
+  const size_t centre = epi.index(x, y);
+  const bool complex = types.types[centre] == kTypeComplex;
+  const float total = complex ? simple_estimate(epi, x, y, rgb)
+                              : weighted_sum(epi, x, y, window_mask(reach), bits::kUsable, rgb);
+  if (found) *found = total > 0;
   if (total == 0) {
-    window_average(epi, x, y, 3, rgb);
+    fallback_color(epi, types, x, y, rgb);
     return kMaxPriority;
   }
+  // A pixel whose own sample is edge-ambiguous is treated as unsampled: weight priority.
   const uint16_t e = epi.edge[centre];
   return usable_sample(e) ? age_priority(sample_age(epi.color[centre])) : weight_priority(total);
 }

@@ -3,29 +3,40 @@
 // Kernel: w(dx, dy) = 1 / (1 + dx^2 + dy^2)^2 (1, 1/4, 1/9, 1/25, 1/36, 1/81): sharply peaked;
 // unreachable pixels and pixels without a usable sample weigh 0 and the rest are renormalized.
 // Complex pixels use every sample of the 5x5 (the paper's simple estimate). A pixel that
-// reaches no sample falls back to the simple estimate, then to the uniform 7x7 average, and
-// the fill step (fill.h) then replaces that with reachable neighbours' colours where it can.
+// reaches no sample takes fallback_color, and the fill step (fill.h) then replaces that with
+// reachable neighbours' colours where it can. docs/epi.md, "Interpolation".
 #pragma once
 
 #include <cstdint>
 
 #include "epi/epi_pixel.h"
+#include "epi/reachability.h"
 
 namespace epi {
 
-// Priority scale: pixels with a sample get age / 16; pixels without one get 1 / (total weight
-// before renormalization), capped at kMaxPriority, which is also what nothing reachable gets.
+// Priority scale: pixels with a usable sample get age / 16 (at most 255/16); the others get
+// 1 / (total weight before renormalization), capped at kMaxReachedPriority; a pixel that
+// reaches no sample gets kMaxPriority, strictly above every other case.
 constexpr float kMaxPriority = 16.0f;
+constexpr float kMaxReachedPriority = 15.0f;
 inline float age_priority(int age) { return float(age) * (1.0f / 16.0f); }
 inline float weight_priority(float total_weight) {
-  return total_weight * kMaxPriority > 1.0f ? 1.0f / total_weight : kMaxPriority;
+  return total_weight * kMaxReachedPriority > 1.0f ? 1.0f / total_weight : kMaxReachedPriority;
 }
 
 extern const float kInterpolationWeights[25];
 
 // The primary colour of pixel (x, y) into rgb; returns its priority. *found tells whether the
-// colour came from reachable samples (complex pixels: from any sample of the 5x5).
-float interpolate_pixel(const EpiImage& epi, int x, int y, uint32_t reach, float rgb[3], bool* found = nullptr);
+// colour came from reachable samples (complex pixels: from any sample of the 5x5). `types` is
+// the whole image's pixel types (the fallback reads them up to 3 pixels away).
+float interpolate_pixel(const EpiImage& epi, TypePlane types, int x, int y, uint32_t reach, float rgb[3],
+                        bool* found = nullptr);
+
+// The colour of a pixel that reaches no sample in its 5x5: the kernel-weighted mean of the
+// usable samples it reaches in its 7x7 (reach_window7); failing that, where its own 5x5
+// holds an edge (a non-empty type), the simple estimate, then the uniform 7x7 average;
+// otherwise black. Colour never crosses an edge into a pixel whose 5x5 is edge-free.
+void fallback_color(const EpiImage& epi, TypePlane types, int x, int y, float rgb[3]);
 
 
 // The paper's simple estimate: every sample of the 5x5, same kernel. Returns the total weight.

@@ -10,30 +10,32 @@ namespace epi {
 namespace {
 
 struct Step {
-  int index;     // offset (dx, dy) as (dy + 2) * 5 + (dx + 2)
+  int index;     // offset (dx, dy) as (dy + R) * (2R + 1) + (dx + R)
   int dx, dy;
-  int pred[2];   // predecessor offsets (index), -1 if none; 12 = the centre
+  int pred[2];   // predecessor offsets (index), -1 if none; the centre is R * (2R + 1) + R
   int dir[2];    // direction of the step from each predecessor
 };
 
-// Offsets in order of Manhattan distance, so predecessors come first.
-std::array<Step, 24> make_steps() {
-  std::array<Step, 24> steps{};
+// The (2R+1)^2 - 1 offsets of the window in order of Manhattan distance, so predecessors come first.
+template <int R>
+std::array<Step, (2 * R + 1) * (2 * R + 1) - 1> make_steps() {
+  constexpr int n_side = 2 * R + 1;
+  std::array<Step, n_side * n_side - 1> steps{};
   int n = 0;
-  for (int dist = 1; dist <= 4; ++dist)
-    for (int dy = -2; dy <= 2; ++dy)
-      for (int dx = -2; dx <= 2; ++dx) {
+  for (int dist = 1; dist <= 2 * R; ++dist)
+    for (int dy = -R; dy <= R; ++dy)
+      for (int dx = -R; dx <= R; ++dx) {
         if ((dx < 0 ? -dx : dx) + (dy < 0 ? -dy : dy) != dist) continue;
-        Step s{(dy + 2) * 5 + (dx + 2), dx, dy, {-1, -1}, {0, 0}};
+        Step s{(dy + R) * n_side + (dx + R), dx, dy, {-1, -1}, {0, 0}};
         int k = 0;
         if (dx != 0) {
           const int sx = dx > 0 ? 1 : -1;
-          s.pred[k] = (dy + 2) * 5 + (dx - sx + 2);
+          s.pred[k] = (dy + R) * n_side + (dx - sx + R);
           s.dir[k++] = sx > 0 ? kRight : kLeft;
         }
         if (dy != 0) {
           const int sy = dy > 0 ? 1 : -1;
-          s.pred[k] = (dy - sy + 2) * 5 + (dx + 2);
+          s.pred[k] = (dy - sy + R) * n_side + (dx + R);
           s.dir[k++] = sy > 0 ? kDown : kUp;
         }
         steps[size_t(n++)] = s;
@@ -42,7 +44,11 @@ std::array<Step, 24> make_steps() {
 }
 
 const std::array<Step, 24>& steps() {
-  static const std::array<Step, 24> s = make_steps();
+  static const std::array<Step, 24> s = make_steps<2>();
+  return s;
+}
+const std::array<Step, 48>& steps7() {
+  static const std::array<Step, 48> s = make_steps<3>();
   return s;
 }
 
@@ -92,6 +98,34 @@ uint32_t reach_full(TypePlane p, int x, int y) {
 uint32_t reach_forward(TypePlane p, int x, int y) {
   return reach<true>([p](int px, int py) { return int(p.types[size_t(py) * size_t(p.width) + size_t(px)]); }, p.width,
                      p.height, x, y);
+}
+
+uint64_t reach_window7(TypePlane p, int x, int y) {
+  const EpiTables& t = epi_tables();
+  uint8_t types[49];
+  int any = 0;
+  for (int dy = -3; dy <= 3; ++dy)
+    for (int dx = -3; dx <= 3; ++dx) {
+      const int px = x + dx, py = y + dy;
+      const bool inside = px >= 0 && py >= 0 && px < p.width && py < p.height;
+      const int type = inside ? int(p.types[size_t(py) * size_t(p.width) + size_t(px)]) : kTypeComplex;
+      types[(dy + 3) * 7 + dx + 3] = uint8_t(type);
+      any |= type;
+    }
+  if (any == kTypeEmpty) return kWindow7All;  // fast path: a 7x7 of empty pixels reaches everything
+  uint8_t masks[49] = {};
+  uint64_t result = uint64_t(1) << 24;  // the centre
+  for (const Step& s : steps7()) {
+    uint8_t m = 0;
+    for (int k = 0; k < 2 && s.pred[k] >= 0; ++k) {
+      const int q = s.pred[k];
+      const uint8_t step = t.neighbour[s.dir[k]][(types[q] << 4) | types[s.index]];
+      m |= q == 24 ? step : t.chain[(masks[q] << 4) | step];
+    }
+    masks[s.index] = m;
+    if (m & kReachPP) result |= uint64_t(1) << s.index;
+  }
+  return result;
 }
 
 uint32_t reach_from_symmetry(const uint32_t* above1, const uint32_t* above2, int x, int width) {

@@ -41,6 +41,12 @@ uint32_t reach_full(TypePlane types, int x, int y);
 // The forward half and the two offsets to the left, (-1,0) and (-2,0); the rest of the mask
 // comes from symmetry (see reach_from_symmetry).
 uint32_t reach_forward(TypePlane types, int x, int y);
+// Reachability over the 7x7 window by the same monotone paths (offsets up to 3 in x and y),
+// for the fallback of pixels that reach no sample in their 5x5: bit (dy + 3) * 7 + (dx + 3),
+// the centre (bit 24) included. Its inner 5x5 equals reach_full.
+constexpr uint64_t kWindow7All = (uint64_t(1) << 49) - 1;
+constexpr int window7_bit(int dx, int dy) { return (dy + 3) * 7 + (dx + 3); }
+uint64_t reach_window7(TypePlane types, int x, int y);
 // Bits for offsets (dx, dy < 0) taken from the masks of the two rows above: bit (dx, dy) of
 // pixel p equals bit (-dx, -dy) of pixel p + (dx, dy). `above1`/`above2` are those rows' masks
 // (nullptr outside the image).

@@ -41,18 +41,19 @@ void output_pixel(const EpiImage& epi, const BoundaryMasks& masks, const Reconst
   out[0] = own[0], out[1] = own[1], out[2] = own[2];
 }
 
-float interpolate(const EpiImage& epi, const ReconstructSettings& s, int x, int y, uint32_t reach, float rgb[3],
-                  uint8_t* found) {
+float interpolate(const EpiImage& epi, TypePlane types, const ReconstructSettings& s, int x, int y, uint32_t reach,
+                  float rgb[3], uint8_t* found) {
   bool f = true;
-  const float p = s.filter == Filter::epi ? interpolate_pixel(epi, x, y, reach, rgb, &f) : rendercache_pixel(epi, x, y, rgb);
+  const float p = s.filter == Filter::epi ? interpolate_pixel(epi, types, x, y, reach, rgb, &f)
+                                          : rendercache_pixel(epi, x, y, rgb);
   *found = f;
   return p;
 }
 
-// The fill step for pixel (x, y): epi only; the render cache has its own prefilter.
+// The fill step for pixel (x, y): epi only (and when on); the render cache has its own prefilter.
 void fill(const ReconstructSettings& s, int x, int width, uint32_t reach, const float* const rows[5],
           const uint8_t* const found[5], float out[3]) {
-  if (s.filter == Filter::epi) return fill_pixel(x, width, reach, rows, found, out);
+  if (s.filter == Filter::epi && s.fill) return fill_pixel(x, width, reach, rows, found, out);
   const float* own = rows[2] + 3 * x;
   out[0] = own[0], out[1] = own[1], out[2] = own[2];
 }
@@ -63,7 +64,9 @@ Reconstruction reconstruct_oracle(EpiImage& epi, const BoundaryMasks& masks, con
   check_sizes(epi, masks);
   const int w = epi.width, h = epi.height;
   Reconstruction r{RgbImage(w, h), std::vector<float>(size_t(w) * size_t(h)), {}};
-  r.counts = classify_rows(epi, masks, 0, h);
+  std::vector<uint8_t> types(size_t(w) * size_t(h));
+  r.counts = classify_rows(epi, masks, 0, h, types.data());
+  const TypePlane type_plane{types.data(), w, h};
   if (s.filter == Filter::epi)
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) epi.cache[epi.index(x, y)] |= reach_full(epi, x, y);
@@ -71,7 +74,7 @@ Reconstruction reconstruct_oracle(EpiImage& epi, const BoundaryMasks& masks, con
   std::vector<uint8_t> found(size_t(w) * size_t(h));
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      r.priority[epi.index(x, y)] = interpolate(epi, s, x, y, reach_mask(epi.cache[epi.index(x, y)]),
+      r.priority[epi.index(x, y)] = interpolate(epi, type_plane, s, x, y, reach_mask(epi.cache[epi.index(x, y)]),
                                                 interpolated.at(x, y), &found[epi.index(x, y)]);
   for (int y = 0; y < h; ++y) {
     const float* rows[5];
@@ -159,7 +162,7 @@ void reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const Reconstr
             float* colors = interp_row(y);
             uint8_t* found = found_row(y);
             for (int x = 0; x < w; ++x) {
-              const float p = interpolate(epi, s, x, y, reach[x], colors + 3 * x, found + x);
+              const float p = interpolate(epi, type_plane, s, x, y, reach[x], colors + 3 * x, found + x);
               if (owned) r.priority[epi.index(x, y)] = p;
             }
           }

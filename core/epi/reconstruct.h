@@ -26,6 +26,7 @@ struct ReconstructSettings {
   Filter filter = Filter::epi;
   bool antialias = true;       // epi only
   bool complex_filter = true;  // epi only; needs masks with centre lines
+  bool fill = true;            // epi only; the fill step (fill.h); off: "EPI without fill"
 };
 
 // How the tiled reconstructor splits the work (measured defaults: docs/performance.md).

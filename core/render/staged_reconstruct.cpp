@@ -63,12 +63,12 @@ void StagedReconstructor::run(EpiImage& epi, const BoundaryMasks& masks, const R
   // Reachability, row by row in parallel over a read-only copy of the types (core/epi's reach_row:
   // windows of empty pixels take the fast path, the rest the full 24-offset computation).
   t = Clock::now();
+  types_.resize(pixels);
+  const TypePlane plane{types_.data(), w, h};  // filled below (epi only); interpolation's fallback reads it
   if (epi_filter) {
-    types_.resize(pixels);
     for_rows(h, [&](int y) {
       for (size_t i = epi.index(0, y); i < epi.index(0, y) + size_t(w); ++i) types_[i] = uint8_t(pixel_type(epi.cache[i]));
     });
-    const TypePlane plane{types_.data(), w, h};
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 4), [&](const tbb::blocked_range<int>& r) {
       std::vector<uint8_t> scratch(size_t(w) + 4);
       for (int y = r.begin(); y != r.end(); ++y) reach_row(plane, y, nullptr, nullptr, &reach_[epi.index(0, y)], scratch.data());
@@ -86,13 +86,13 @@ void StagedReconstructor::run(EpiImage& epi, const BoundaryMasks& masks, const R
     for (int x = 0; x < w; ++x) {
       const size_t i = epi.index(x, y);
       bool found = true;
-      out.priority[i] = epi_filter ? interpolate_pixel(epi, x, y, reach_[i], interpolated_.at(x, y), &found)
+      out.priority[i] = epi_filter ? interpolate_pixel(epi, plane, x, y, reach_[i], interpolated_.at(x, y), &found)
                                    : rendercache_pixel(epi, x, y, interpolated_.at(x, y));
       found_[i] = found;
     }
   });
   const RgbImage* primary = &interpolated_;
-  if (epi_filter) {
+  if (epi_filter && s.fill) {
     if (filled_.width != w || filled_.height != h) filled_ = RgbImage(w, h);
     for_rows(h, [&](int y) {
       const float* rows[5];

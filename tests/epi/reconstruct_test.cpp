@@ -85,9 +85,10 @@ TEST(Reachability, IsSymmetricOnRandomPatterns) {
   }
 }
 
-// Reachability by brute force: every monotone staircase path from the centre to each offset,
-// each composed step by step as explicit relations over {P, S}, the paths OR-ed.
-uint32_t brute_reach(const EpiImage& epi, int x, int y) {
+// Reachability by brute force: every monotone staircase path from the centre to each offset
+// of the (2R+1)^2 window, each composed step by step as explicit relations over {P, S}, the
+// paths OR-ed. Bit (dy + R) * (2R + 1) + (dx + R), the centre left out.
+uint64_t brute_reach_window(const EpiImage& epi, int x, int y, int radius) {
   const EpiTables& t = epi_tables();
   auto type = [&](int px, int py) {
     return epi.inside(px, py) ? pixel_type(epi.cache[epi.index(px, py)]) : kTypeComplex;
@@ -100,9 +101,9 @@ uint32_t brute_reach(const EpiImage& epi, int x, int y) {
       for (int j = 0; j < 2; ++j) r[i][j] = (m >> (2 * i + j)) & 1;
     return r;
   };
-  uint32_t result = 0;
-  for (int dy = -2; dy <= 2; ++dy)
-    for (int dx = -2; dx <= 2; ++dx) {
+  uint64_t result = 0;
+  for (int dy = -radius; dy <= radius; ++dy)
+    for (int dx = -radius; dx <= radius; ++dx) {
       if (!(dx || dy)) continue;
       const int nx = std::abs(dx), ny = std::abs(dy), sx = dx > 0 ? 1 : -1, sy = dy > 0 ? 1 : -1;
       bool reach_pp = false;
@@ -119,9 +120,53 @@ uint32_t brute_reach(const EpiImage& epi, int x, int y) {
         }
         reach_pp = reach_pp || from_p[0];
       }
-      if (reach_pp) result |= 1u << reach_bit(dx, dy);
+      if (reach_pp) result |= uint64_t(1) << ((dy + radius) * (2 * radius + 1) + dx + radius);
     }
   return result;
+}
+
+uint32_t brute_reach(const EpiImage& epi, int x, int y) {
+  const uint64_t window = brute_reach_window(epi, x, y, 2);
+  uint32_t result = 0;
+  for (int dy = -2; dy <= 2; ++dy)
+    for (int dx = -2; dx <= 2; ++dx)
+      if ((dx || dy) && ((window >> ((dy + 2) * 5 + dx + 2)) & 1)) result |= 1u << reach_bit(dx, dy);
+  return result;
+}
+
+std::vector<uint8_t> types_of(const EpiImage& epi) {
+  std::vector<uint8_t> types(epi.cache.size());
+  for (size_t i = 0; i < types.size(); ++i) types[i] = uint8_t(pixel_type(epi.cache[i]));
+  return types;
+}
+
+// The 7x7 fallback's reachability: brute force over all monotone paths up to 3 away, and its
+// inner 5x5 equal to the filter's own mask.
+TEST(Reachability, Window7MatchesBruteForcePathEnumeration) {
+  for (uint64_t seed = 1; seed <= 4; ++seed) {
+    test::Built b = test::build(test::random_pattern(30, 22, 16, seed), 0.5, seed);
+    classify_rows(b.epi, b.masks, 0, 22);
+    const std::vector<uint8_t> types = types_of(b.epi);
+    const TypePlane plane{types.data(), 30, 22};
+    for (int y = 0; y < 22; ++y)
+      for (int x = 0; x < 30; ++x) {
+        const uint64_t got = reach_window7(plane, x, y);
+        ASSERT_EQ(got, brute_reach_window(b.epi, x, y, 3) | (uint64_t(1) << window7_bit(0, 0))) << x << "," << y;
+        const uint32_t full = reach_full(b.epi, x, y);
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dx = -2; dx <= 2; ++dx)
+            if (dx || dy) {
+              ASSERT_EQ((got >> window7_bit(dx, dy)) & 1, (full >> reach_bit(dx, dy)) & 1);
+            }
+      }
+  }
+  // The fast path: an empty image reaches the whole window, minus what lies outside it.
+  EpiImage epi(9, 9);
+  BoundaryMasks masks(9, 9, false);
+  classify_rows(epi, masks, 0, 9);
+  const std::vector<uint8_t> types = types_of(epi);
+  EXPECT_EQ(reach_window7({types.data(), 9, 9}, 4, 4), kWindow7All);
+  EXPECT_EQ(reach_window7({types.data(), 9, 9}, 0, 4), brute_reach_window(epi, 0, 4, 3) | (uint64_t(1) << 24));
 }
 
 TEST(Reachability, MatchesBruteForcePathEnumeration) {
@@ -144,6 +189,7 @@ std::vector<Case> cases() {
     out.push_back({{Filter::epi, true, true}, d});
     out.push_back({{Filter::epi, false, true}, d});
     out.push_back({{Filter::epi, true, false}, d});
+    out.push_back({{Filter::epi, true, true, false}, d});  // fill off
     out.push_back({{Filter::rendercache, false, false}, d});
   }
   return out;
@@ -187,7 +233,7 @@ TEST(Tiled, TinyAndThinImages) {
 
 TEST(Tiled, FourKImage) {
   Pattern p = test::random_pattern(3840, 2160, 60, 99);
-  expect_tiled_equals_oracle(p, {{Filter::epi, true, true}, 0.1}, 4, {{32, 2}});
+  expect_tiled_equals_oracle(p, {{Filter::epi, true, true}, 0.1}, 4, {{32, 2}, {100, 1}});
 }
 
 TEST(Tiled, ReusedOutputBuffersGiveTheSameResult) {
@@ -251,6 +297,66 @@ TEST(Reconstruct, PriorityFollowsAgeAndSampleDensity) {
   EXPECT_EQ(priority(13, 0), kMaxPriority);                // nothing within reach
 }
 
+// A pixel that reaches only a far sample (weight 1/81) still ranks strictly below one that
+// reaches nothing.
+TEST(Reconstruct, NothingReachableIsStrictlyTheHighestPriority) {
+  EpiImage epi(15, 15);
+  BoundaryMasks masks(15, 15, false);
+  const float grey[3] = {0.5f, 0.5f, 0.5f};
+  epi.set_sample(2, 2, 0.5, 0.5, grey, 3);
+  const Reconstruction r = reconstruct_oracle(epi, masks, {});
+  const float far = r.priority[size_t(4 * 15 + 4)], none = r.priority[size_t(5 * 15 + 5)];
+  EXPECT_EQ(none, kMaxPriority);
+  EXPECT_LT(far, none);
+  EXPECT_EQ(far, kMaxReachedPriority);
+  EXPECT_LT(age_priority(255), kMaxPriority);
+}
+
+// Priority by brute force on random patterns with random ages: a usable own sample gives age
+// priority; otherwise (no sample, or an edge-ambiguous one, which interpolation ignores) the
+// weight priority of the reachable usable samples, and kMaxPriority exactly when there are
+// none (complex pixels: any sample of the 5x5).
+TEST(Reconstruct, PriorityMatchesBruteForceIncludingAmbiguousSamples) {
+  int ambiguous_checked = 0, unreached = 0;
+  for (uint64_t seed = 1; seed <= 6; ++seed)
+    for (double density : {0.05, 0.3, 0.8}) {
+      test::Built b = test::build(test::random_pattern(40, 30, 14, seed), density, seed);
+      for (size_t i = 0; i < b.epi.color.size(); ++i)
+        b.epi.color[i] = (b.epi.color[i] & 0xffffffu) | uint32_t((i * 37 + seed) % 256) << bits::kAgeShift;
+      EpiImage copy = b.epi;
+      const Reconstruction r = reconstruct_tiled(b.epi, b.masks, {}, {7, 2});
+      ASSERT_TRUE(same_bits(r.priority, reconstruct_oracle(copy, b.masks, {}).priority));
+      for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x) {
+          const size_t i = b.epi.index(x, y);
+          const bool complex = pixel_type(b.epi.cache[i]) == kTypeComplex;
+          const uint32_t reach = reach_mask(b.epi.cache[i]);
+          double total = 0;
+          for (int dy = -2; dy <= 2; ++dy)
+            for (int dx = -2; dx <= 2; ++dx) {
+              if (!b.epi.inside(x + dx, y + dy)) continue;
+              const uint16_t e = b.epi.edge[b.epi.index(x + dx, y + dy)];
+              const bool reached = (!dx && !dy) || ((reach >> reach_bit(dx, dy)) & 1);
+              if (complex ? has_sample(e) : reached && usable_sample(e)) total += kInterpolationWeights[(dy + 2) * 5 + dx + 2];
+            }
+          const uint16_t own = b.epi.edge[i];
+          const float p = r.priority[i];
+          if (total == 0) {
+            ASSERT_EQ(p, kMaxPriority) << x << "," << y;
+            ++unreached;
+          } else if (usable_sample(own)) {
+            ASSERT_EQ(p, age_priority(sample_age(b.epi.color[i])));
+          } else {
+            ASSERT_LT(p, kMaxPriority);
+            ASSERT_NEAR(p, std::min(1.0 / total, double(kMaxReachedPriority)), 1e-4 * p) << x << "," << y;
+            ambiguous_checked += has_sample(own);
+          }
+        }
+    }
+  EXPECT_GT(ambiguous_checked, 10);
+  EXPECT_GT(unreached, 10);
+}
+
 TEST(Reconstruct, AntiAliasingBlendsInLinearLight) {
   // White right of x = 10.5, black left: the edge pixels are half covered, 0.5 in linear light.
   Pattern p = parse_pattern(R"({"width":20,"height":10,"background":[0,0,0],"polygons":[
@@ -278,9 +384,14 @@ TEST(Reconstruct, UniformColourIsReproducedEverywhere) {
   for (double d : {1.0, 0.2}) {
     test::Built b = test::build(p, d, 8);
     const Reconstruction r = reconstruct_oracle(b.epi, b.masks, {});
+    size_t sampled = 0;  // every sample holds the background, 8-bit sRGB encoded
+    while (!has_sample(b.epi.edge[sampled])) ++sampled;
     float expected[3];
-    decode_color(b.epi.color[b.epi.index(0, 0)] | 0, expected);
-    for (size_t i = 0; i < r.image.pixels.size(); ++i) EXPECT_NEAR(r.image.pixels[i], p.background[i % 3], 4e-3);
+    decode_color(b.epi.color[sampled], expected);
+    for (size_t i = 0; i < r.image.pixels.size(); ++i) {
+      EXPECT_NEAR(r.image.pixels[i], p.background[i % 3], 4e-3);  // the quantization of 8-bit sRGB
+      EXPECT_NEAR(r.image.pixels[i], expected[i % 3], 1e-6);      // and nothing else
+    }
   }
 }
 
