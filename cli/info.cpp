@@ -4,6 +4,10 @@
 #include "commands.h"
 #include "load_scene.h"
 #include "scene/topology.h"
+#include "shade/ray_scene.h"
+#ifdef EPI_WITH_EDGES
+#include "edges/scene_edges.h"
+#endif
 
 namespace epi::cli {
 
@@ -43,7 +47,14 @@ int run_info(const InfoOptions& options) {
   std::printf("objects: %zu\n", scene.objects.size());
   std::printf("meshes: %zu (subdivided: %d)\n", scene.meshes.size(), subdivided);
   std::printf("materials: %zu\n", scene.materials.size());
-  std::printf("triangles: %zu\n", scene.triangle_count());
+  // Each mesh counted once (after tessellation and subdivision), then over all objects as rendered.
+  size_t mesh_triangles = 0, dropped = 0;
+  for (const Mesh& mesh : scene.meshes) mesh_triangles += mesh.triangles.size(), dropped += mesh.degenerate_triangles_dropped;
+  std::printf("triangles: %zu (the file's meshes, each once, after tessellation and subdivision; %zu after dropping "
+              "%zu degenerate)\n",
+              mesh_triangles + dropped, mesh_triangles, dropped);
+  std::printf("instanced triangles: %zu (over all %zu objects, as rendered)\n", scene.triangle_count(),
+              scene.objects.size());
   std::printf("welded vertices: %zu\n", welded_vertices);
   std::printf("unique edges: %zu\n", unique_edges);
   std::printf("border edges: %zu\n", border_edges);
@@ -65,6 +76,15 @@ int run_info(const InfoOptions& options) {
   std::printf("memory:\n");
   for (const MemoryItem& item : scene.memory()) std::printf("  %s: %s\n", item.name.c_str(), format_bytes(item.bytes).c_str());
   std::printf("  edge tables: %s\n", format_bytes(edge_bytes).c_str());
+  // What the renderer builds for the scene, in bytes (plain numbers, for scripts).
+  const RayScene ray_scene(scene);
+  for (const MemoryItem& item : ray_scene.memory())
+    std::printf("  ray scene, %s: %zu bytes (%s)\n", item.name.c_str(), item.bytes, format_bytes(item.bytes).c_str());
+#ifdef EPI_WITH_EDGES
+  const edges::SceneEdgeFinder finder(scene);
+  std::printf("  edge finder (edge meshes and trees): %zu bytes (%s)\n", finder.memory_bytes(),
+              format_bytes(finder.memory_bytes()).c_str());
+#endif
   if (!scene.repairs.empty()) {
     std::printf("repairs:\n");
     for (const std::string& line : scene.repairs) std::printf("  %s\n", line.c_str());

@@ -1,5 +1,6 @@
 #include "output.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
@@ -114,9 +115,12 @@ void StagedOutputs::commit() {
 
 void report_repairs(const Scene& scene, bool quiet) {
   if (quiet || scene.repairs.empty()) return;
+  constexpr size_t kShown = 3;
   std::string line;
-  for (const std::string& repair : scene.repairs) line += (line.empty() ? "" : "; ") + repair;
-  std::fprintf(stderr, "epi: repaired while loading: %s\n", line.c_str());
+  for (size_t i = 0; i < std::min(kShown, scene.repairs.size()); ++i) line += (i ? "; " : "") + scene.repairs[i];
+  if (scene.repairs.size() > kShown)
+    line += "; and " + std::to_string(scene.repairs.size() - kShown) + " more (epi info lists them)";
+  std::fprintf(stderr, "epi: %s: repaired while loading: %s\n", scene.source.c_str(), line.c_str());
 }
 
 }  // namespace epi::cli
