@@ -1,7 +1,7 @@
 // The edge-and-point image (EPI): 10 bytes per pixel, stored as three planes (SoA).
 // The whole bit layout lives here; docs/epi.md explains it with pictures.
 //
-//   edge plane  (uint16)  bits 0-9   edge code (see edge_code.h)
+//   edge plane  (uint16)  bits 0-9   edge code (see geometry.h)
 //                         bits 10-13 sample region: rx + 4*ry on the pixel's 4x4 interior grid
 //                         bit  14    the pixel holds a sample
 //                         bit  15    the sample is usable (not edge-ambiguous)
