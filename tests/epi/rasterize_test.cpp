@@ -54,6 +54,80 @@ TEST(Rasterize, RandomSegmentsMatchBruteForce) {
   }
 }
 
+// The documented tie rule written independently, in exact integer arithmetic: endpoints on the
+// 1/8 grid (coordinates as integers in eighths), the segment shifted by (+e, +e^2). A line is
+// crossed when exactly one (shifted) endpoint lies below it; the crossing's position along the
+// line is a rational number of eighths, and when it falls exactly on a piece boundary the
+// shift decides: on a vertical line y moves by -e * slope (up when slope > 0, else it stays,
+// the +e^2 breaking the slope-0 tie upwards); on a horizontal line x moves by +e (stays).
+BoundaryMasks brute_masks_eighths(int w, int h, long long X0, long long Y0, long long X1, long long Y1) {
+  BoundaryMasks m(w, h, true);
+  auto floor_div = [](long long a, long long b) {  // b > 0
+    return a >= 0 ? a / b : -((-a + b - 1) / b);
+  };
+  auto mark = [&](std::vector<uint8_t>& plane, long long q, int line, bool vertical) {  // q: eighths along the line
+    const long long cell = floor_div(q, 8);
+    if (cell < 0 || cell >= (vertical ? h : w)) return;
+    const int bit = int(q - 8 * cell);
+    plane[vertical ? m.index(line, int(cell)) : m.index(int(cell), line)] |= uint8_t(1 << bit);
+  };
+  for (int k = 0; k <= 2 * w; ++k) {  // vertical lines x = k/2 (odd k: centre lines), in eighths 4k
+    const long long L = 4LL * k;
+    if ((X0 < L) == (X1 < L) || (k % 2 && k / 2 >= w)) continue;
+    long long num = Y0 * (X1 - X0) + (L - X0) * (Y1 - Y0), den = X1 - X0;  // y (eighths) = num / den
+    if (den < 0) num = -num, den = -den;
+    long long q = floor_div(num, den);
+    const bool on_boundary = num == q * den;
+    const bool slope_positive = (Y1 - Y0) * (X1 - X0) > 0;
+    if (on_boundary && slope_positive) q -= 1;  // y - e * slope: just above the boundary
+    mark(k % 2 ? m.centre_v : m.left, q, k / 2, true);
+  }
+  for (int k = 0; k <= 2 * h; ++k) {  // horizontal lines y = k/2
+    const long long L = 4LL * k;
+    if ((Y0 < L) == (Y1 < L) || (k % 2 && k / 2 >= h)) continue;
+    long long num = X0 * (Y1 - Y0) + (L - Y0) * (X1 - X0), den = Y1 - Y0;
+    if (den < 0) num = -num, den = -den;
+    mark(k % 2 ? m.centre_h : m.top, floor_div(num, den), k / 2, false);  // x + e: a boundary stays
+  }
+  return m;
+}
+
+TEST(Rasterize, SegmentsOnTheEighthGridFollowTheTieRule) {
+  std::mt19937_64 rng(11);
+  const int w = 9, h = 7;
+  std::uniform_int_distribution<int> ex(-16, 8 * w + 16), ey(-16, 8 * h + 16), pick(0, 5);
+  int on_lines = 0, ties = 0;
+  for (int trial = 0; trial < 6000; ++trial) {
+    long long c[4] = {ex(rng), ey(rng), ex(rng), ey(rng)};
+    for (int i = 0; i < 4; ++i) {
+      const int r = pick(rng);
+      if (r == 0) c[i] = 8 * (c[i] / 8);      // on a grid line
+      else if (r == 1) c[i] = 8 * (c[i] / 8) + 4;  // on a centre line
+    }
+    if (pick(rng) == 0) c[2] = c[0];  // vertical segment (often on a line)
+    if (pick(rng) == 0) c[3] = c[1];  // horizontal
+    if (pick(rng) == 0) {             // a diagonal through corners
+      const long long d = 8 * (1 + pick(rng));
+      c[2] = c[0] + d, c[3] = c[1] + (trial % 2 ? d : -d);
+    }
+    on_lines += c[0] % 8 == 0 || c[2] % 8 == 0;
+    const Segment s{c[0] / 8.0, c[1] / 8.0, c[2] / 8.0, c[3] / 8.0};
+    BoundaryMasks m(w, h, true);
+    rasterize_edges(m, std::span<const Segment>(&s, 1));
+    const BoundaryMasks b = brute_masks_eighths(w, h, c[0], c[1], c[2], c[3]);
+    ASSERT_EQ(m.top, b.top) << trial << ": " << s.x0 << "," << s.y0 << " " << s.x1 << "," << s.y1;
+    ASSERT_EQ(m.left, b.left) << trial << ": " << s.x0 << "," << s.y0 << " " << s.x1 << "," << s.y1;
+    ASSERT_EQ(m.centre_h, b.centre_h) << trial;
+    ASSERT_EQ(m.centre_v, b.centre_v) << trial;
+    for (int k = 0; k <= 2 * w; ++k) {  // count exact ties on vertical lines, so the test is known to reach them
+      const long long L = 4LL * k, dx = c[2] - c[0];
+      if ((c[0] < L) != (c[2] < L) && ((c[1] * dx + (L - c[0]) * (c[3] - c[1])) % dx == 0)) ++ties;
+    }
+  }
+  EXPECT_GT(on_lines, 1000);
+  EXPECT_GT(ties, 1000);
+}
+
 TEST(Rasterize, ParallelBandsMatchTheSerialRasterizer) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-10.0, 90.0), v(0.0, 1.0);
