@@ -1,6 +1,7 @@
 #include "render/sampling.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <atomic>
@@ -23,8 +24,39 @@ uint64_t splitmix64(uint64_t x) {
 float unit_float(uint64_t bits) { return float(bits >> 40) * (1.0f / float(1u << 24)); }  // [0, 1)
 
 
-// One band of rows: `priority` and the returned indices are the band's own (row-major, from 0).
-std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width, int height, size_t count) {
+// The Hilbert curve over an 8x8 block: cell (x, y) of each step, from (0, 0) to (7, 0), so the
+// curves of blocks side by side join into one path along a strip of 8 rows.
+constexpr int kBlock = 8;
+struct HilbertBlock {
+  std::array<uint8_t, kBlock * kBlock> x{}, y{};
+  HilbertBlock() {
+    for (int d = 0; d < kBlock * kBlock; ++d) {
+      int cx = 0, cy = 0;
+      for (int s = 1, t = d; s < kBlock; s *= 2, t /= 4) {
+        const int rx = 1 & (t / 2), ry = 1 & (t ^ rx);
+        if (ry == 0) {
+          if (rx == 1) cx = s - 1 - cx, cy = s - 1 - cy;
+          std::swap(cx, cy);
+        }
+        cx += s * rx, cy += s * ry;
+      }
+      x[size_t(d)] = uint8_t(cx), y[size_t(d)] = uint8_t(cy);
+    }
+  }
+};
+const HilbertBlock& hilbert_block() {
+  static const HilbertBlock block;
+  return block;
+}
+
+// One band of at most 64 rows: `priority` and the returned indices are the band's own
+// (row-major, from 0). Error diffusion along a space-filling path (Riemersma-style, the whole
+// error carried to the next pixel): the band's strips of 8 rows in boustrophedon order, each
+// strip block after block, each 8x8 block along its Hilbert curve. Every strip gets its share
+// of the picks to within one, the curve's locality spreads them inside the strip, and there is
+// no start-up transient (the error starts at a hashed phase), whatever the density.
+std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width, int height, size_t count,
+                                  uint64_t band_seed) {
   const size_t pixels = size_t(width) * size_t(height);
   count = std::min(count, pixels);
   std::vector<uint32_t> picked;
@@ -35,40 +67,29 @@ std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width
   auto weight = [&](size_t i) { return uniform ? 1.0f : std::max(0.0f, priority[i]); };
   const double scale = double(count) / (uniform ? double(pixels) : total);
 
-  // Floyd-Steinberg over the scaled priority, serpentine rows, two rows of error; error pushed
-  // past a row's end goes to the next row's end pixel, so only the last row's error leaves the
-  // band. The value at the decision is kept: it ranks pixels when the count is settled.
-  std::vector<float> err_row(size_t(width) + 2), err_next(size_t(width) + 2), decision(pixels);
-  std::vector<uint8_t> chosen(pixels);
-  size_t chosen_count = 0;
-  {
-    // The first row starts with a little error (a fixed hash pattern in [0, 1/2)): without it
-    // the first rows stay empty until error has accumulated.
-    for (size_t x = 0; x < err_row.size(); ++x) err_row[x] = 0.5f * unit_float(splitmix64(x));
-    std::fill(chosen.begin(), chosen.end(), uint8_t(0));
-    chosen_count = 0;
-    for (int y = 0; y < height; ++y) {
-      const bool forward = (y & 1) == 0;
-      const int dir = forward ? 1 : -1;
-      std::fill(err_next.begin(), err_next.end(), 0.0f);
-      for (int k = 0; k < width; ++k) {
-        const int x = forward ? k : width - 1 - k;
+  // The value at the decision is kept: it ranks pixels when the count is settled.
+  std::vector<float> decision(pixels);
+  std::vector<uint8_t> chosen(pixels, 0);
+  const HilbertBlock& curve = hilbert_block();
+  double error = double(unit_float(splitmix64(band_seed))) - 0.5;  // the phase of the first pick
+  const int blocks = (width + kBlock - 1) / kBlock;
+  for (int strip = 0; strip * kBlock < height; ++strip) {
+    const bool forward = (strip & 1) == 0;  // odd strips right to left, their blocks mirrored
+    for (int b = 0; b < blocks; ++b) {
+      const int bx = (forward ? b : blocks - 1 - b) * kBlock;
+      const bool whole = bx + kBlock <= width && (strip + 1) * kBlock <= height;
+      for (int d = 0; d < kBlock * kBlock; ++d) {
+        const int x = bx + (forward ? curve.x[size_t(d)] : kBlock - 1 - curve.x[size_t(d)]);
+        const int y = strip * kBlock + curve.y[size_t(d)];
+        if (!whole && (x >= width || y >= height)) continue;
         const size_t i = size_t(y) * size_t(width) + size_t(x);
-        const float value = float(double(weight(i)) * scale) + err_row[size_t(x + 1)];
-        decision[i] = value;
-        const bool pick = value >= 0.5f && weight(i) > 0.0f;
-        const float e = pick ? value - 1.0f : value;
-        chosen[i] = pick, chosen_count += pick;
-        err_row[size_t(x + 1 + dir)] += e * (7.0f / 16.0f);
-        err_next[size_t(x + 1 - dir)] += e * (3.0f / 16.0f);
-        err_next[size_t(x + 1)] += e * (5.0f / 16.0f);
-        err_next[size_t(x + 1 + dir)] += e * (1.0f / 16.0f);
+        const float w = weight(i);
+        const double value = double(w) * scale + error;
+        decision[i] = float(value);
+        const bool pick = value >= 0.5 && w > 0.0f;
+        chosen[i] = pick;
+        error = pick ? value - 1.0 : value;
       }
-      // Error pushed past the row's ends stays in the image: into the next row's end pixels.
-      err_next[1] += err_next[0] + (forward ? 0.0f : err_row[0]);
-      err_next[size_t(width)] += err_next[size_t(width) + 1] + (forward ? err_row[size_t(width) + 1] : 0.0f);
-      err_next[0] = err_next[size_t(width) + 1] = 0.0f;
-      std::swap(err_row, err_next);
     }
   }
   for (size_t i = 0; i < pixels; ++i)
@@ -156,7 +177,8 @@ std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, 
   tbb::parallel_for(0, bands, [&](int b) {
     const size_t first = size_t(b) * band_rows * size_t(width);
     const int rows = int(info[size_t(b)].pixels / size_t(width));
-    picks[size_t(b)] = dither_band(uniform ? nullptr : priority.data() + first, uniform, width, rows, info[size_t(b)].count);
+    picks[size_t(b)] =
+        dither_band(uniform ? nullptr : priority.data() + first, uniform, width, rows, info[size_t(b)].count, uint64_t(b));
     for (uint32_t& i : picks[size_t(b)]) i += uint32_t(first);
   });
   std::vector<uint32_t> picked;

@@ -55,6 +55,56 @@ TEST(Dither, UniformPriorityIsSpreadEvenly) {
   EXPECT_GE(near_four, 240);
 }
 
+// A smooth random priority image: a few random bumps over a floor, range ~0.2 to ~3.
+std::vector<float> smooth_priority(int w, int h, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<float> p(size_t(w) * size_t(h), 0.2f);
+  for (int k = 0; k < 6; ++k) {
+    const float cx = unit(rng) * float(w), cy = unit(rng) * float(h), r = (0.1f + 0.3f * unit(rng)) * float(w), a = 0.5f + unit(rng);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const float d2 = ((float(x) - cx) * (float(x) - cx) + (float(y) - cy) * (float(y) - cy)) / (r * r);
+        p[size_t(y) * size_t(w) + size_t(x)] += a * std::exp(-d2);
+      }
+  }
+  return p;
+}
+
+// Sparse to dense budgets, uniform and smooth priority, 512x512 (8 bands of 64 rows): the count is
+// exact, every strip of 8 rows (the top of every band among them) gets at least half the picks
+// its priority asks for, and the picks follow priority (pixels above the median priority get
+// their share).
+TEST(Dither, EveryStripOfRowsGetsItsShareAtEveryDensity) {
+  const int w = 512, h = 512;
+  for (int image = 0; image < 2; ++image) {
+    const std::vector<float> priority = image == 0 ? std::vector<float>(size_t(w * h), 1.0f) : smooth_priority(w, h, 11);
+    double total = 0.0;
+    for (float p : priority) total += p;
+    std::vector<float> sorted = priority;
+    std::nth_element(sorted.begin(), sorted.begin() + ptrdiff_t(sorted.size() / 2), sorted.end());
+    const float median = sorted[sorted.size() / 2];
+    for (double density : {0.001, 0.003, 0.005, 0.01, 0.05, 0.5}) {
+      const size_t count = size_t(std::round(density * w * h));
+      const std::vector<uint32_t> picked = dither_pixels(priority, w, h, count);
+      ASSERT_EQ(picked.size(), count);
+      std::vector<double> got(h / 8, 0.0), want(h / 8, 0.0);
+      for (uint32_t p : picked) got[p / w / 8] += 1.0;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) want[size_t(y / 8)] += double(priority[size_t(y * w + x)]) * double(count) / total;
+      for (int s = 0; s < h / 8; ++s)
+        EXPECT_GE(got[size_t(s)], 0.5 * want[size_t(s)]) << "image " << image << " density " << density << " rows " << s * 8;
+      if (image == 1) {
+        double high_want = 0.0, high_got = 0.0;
+        for (size_t i = 0; i < priority.size(); ++i)
+          if (priority[i] > median) high_want += double(priority[i]) * double(count) / total;
+        for (uint32_t p : picked) high_got += priority[p] > median;
+        EXPECT_NEAR(high_got / high_want, 1.0, 0.05) << "density " << density;
+      }
+    }
+  }
+}
+
 TEST(Dither, PicksInProportionToPriority) {
   const int w = 96, h = 64;
   std::vector<float> priority(size_t(w * h));
