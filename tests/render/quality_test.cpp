@@ -41,13 +41,15 @@ std::vector<double> pixel_errors(const RgbImage& a, const RgbImage& b) {
   return e;
 }
 
-// Pixels a geometric edge piece (silhouette, sharp, border) passes through (sampled finely).
-std::vector<uint8_t> edge_pixels(const FrameRenderer& renderer, int w, int h) {
+// Pixels the edge pieces the renderer rasterized pass through (sampled finely): geometric ones
+// (silhouette, sharp, border), or shadow ones (umbral, penumbral, shadow).
+std::vector<uint8_t> edge_pixels(const FrameRenderer& renderer, int w, int h, bool shadow = false) {
   std::vector<uint8_t> mask(size_t(w) * size_t(h), 0);
   for (size_t k = 0; k < renderer.segments().size(); ++k) {
     const Segment& s = renderer.segments()[k];
     const edges::EdgeKind kind = renderer.segment_kinds()[k];
-    if (kind != edges::EdgeKind::silhouette && kind != edges::EdgeKind::sharp && kind != edges::EdgeKind::border) continue;
+    const bool geometric = kind == edges::EdgeKind::silhouette || kind == edges::EdgeKind::sharp || kind == edges::EdgeKind::border;
+    if (geometric == shadow) continue;
     const int steps = 1 + int(4.0 * std::hypot(s.x1 - s.x0, s.y1 - s.y0));
     for (int k = 0; k <= steps; ++k) {
       const double t = double(k) / steps;
@@ -95,6 +97,20 @@ TEST_P(Quality, EpiIsCloserToTheReferenceThanTheRenderCacheAndKeepsImproving) {
   ASSERT_GT(edge_count, 50u);
   EXPECT_LT(all_epi, all_cache);
   EXPECT_LT(edge_epi, edge_cache);  // ratios per scene: docs/render.md
+  // Shadow boundaries: the pixels crossed by the shadow edges this frame (scenes that have them).
+  const std::vector<uint8_t> near_shadows = edge_pixels(epi, kSize, kSize, true);
+  double shadow_epi = 0, shadow_cache = 0;
+  size_t shadow_count = 0;
+  for (size_t i = 0; i < e_epi.size(); ++i)
+    if (near_shadows[i]) shadow_epi += e_epi[i], shadow_cache += e_cache[i], ++shadow_count;
+  if (shadow_count >= 20) {
+    // torus_capsule is a known open defect (docs/render.md, "Quality"): EPI is 1.38x the render
+    // cache's error at its shadow edges; held at that level here so it cannot get worse unseen.
+    const double allowed = std::string(GetParam()) == "torus_capsule.gltf" ? 1.45 : 1.0;
+    EXPECT_LT(shadow_epi, allowed * shadow_cache);
+  }
+  std::printf("%s: EPI/render cache error %.3f at %zu shadow edge pixels\n", GetParam(),
+              shadow_count ? shadow_epi / shadow_cache : 0.0, shadow_count);
   RecordProperty("error_ratio_all", std::to_string(all_epi / all_cache));
   RecordProperty("error_ratio_edges", std::to_string(edge_epi / edge_cache));
   std::printf("%s: EPI/render cache error %.3f overall, %.3f at %zu edge pixels\n", GetParam(), all_epi / all_cache,
