@@ -284,9 +284,9 @@ TEST(FrameLoop, TiledAndStagedReconstructionGiveTheSameFrames) {
 namespace epi::render {
 namespace {
 
-// Asynchronous shading while the box slides: once it stops, every point drawn as the box lies on
-// the box where it now is (results shaded for an old placement were dropped, not misplaced).
-TEST(FrameLoop, AsyncResultsFromAnOldPlacementAreDropped) {
+// Asynchronous shading while the box slides: once it stops, every box point lies on the box where
+// it now is (results shaded for an old placement were placed with their shot's transforms).
+TEST(FrameLoop, AsyncResultsFromAnOldPlacementMoveWithTheirObject) {
   Fixture f;
   FrameSettings s = small_settings(RenderMode::epi, false);
   s.sample_budget = 0.1;
