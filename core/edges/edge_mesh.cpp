@@ -1,5 +1,6 @@
 #include "edges/edge_mesh.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "scene/topology.h"
@@ -11,7 +12,9 @@ size_t EdgeMesh::memory_bytes() const {
          faces.capacity() * sizeof(glm::uvec3) + positions.capacity() * sizeof(glm::vec3) +
          (v0.capacity() + v1.capacity() + face0.capacity() + face1.capacity() + feature_edges.capacity()) *
              sizeof(uint32_t) +
-         flags.capacity() + (ring_start.capacity() + ring_faces.capacity()) * sizeof(uint32_t);
+         flags.capacity() + (ring_start.capacity() + ring_faces.capacity()) * sizeof(uint32_t) +
+         (border_edges.capacity() + non_manifold.capacity() + non_manifold_start.capacity() +
+          non_manifold_faces.capacity()) * sizeof(uint32_t);
 }
 
 Viewpoint EdgeMesh::local_point(const glm::dvec3& p) const {
@@ -69,6 +72,8 @@ EdgeMesh build_edge_mesh(const Mesh& mesh) {
     }
     m.flags[e] = flags;
     if (flags) m.feature_edges.push_back(uint32_t(e));
+    if (flags & kBorder) m.border_edges.push_back(uint32_t(e));
+    if (flags & kNonManifold) m.non_manifold.push_back(uint32_t(e));
   }
 
   // Faces around each vertex, by counting sort.
@@ -80,7 +85,26 @@ EdgeMesh build_edge_mesh(const Mesh& mesh) {
   std::vector<uint32_t> fill(m.ring_start.begin(), m.ring_start.end() - 1);
   for (uint32_t f = 0; f < m.faces.size(); ++f)
     for (int k = 0; k < 3; ++k) m.ring_faces[fill[m.faces[f][k]]++] = f;
+
+  // All faces of each non-manifold edge: the faces around v0 that also hold v1.
+  m.non_manifold_start.push_back(0);
+  for (uint32_t e : m.non_manifold) {
+    for (uint32_t r = m.ring_start[m.v0[e]]; r < m.ring_start[m.v0[e] + 1]; ++r) {
+      const glm::uvec3& f = m.faces[m.ring_faces[r]];
+      if (f.x == m.v1[e] || f.y == m.v1[e] || f.z == m.v1[e]) m.non_manifold_faces.push_back(m.ring_faces[r]);
+    }
+    m.non_manifold_start.push_back(uint32_t(m.non_manifold_faces.size()));
+  }
   return m;
+}
+
+std::span<const uint32_t> EdgeMesh::edge_faces(uint32_t e, uint32_t (&scratch)[2]) const {
+  if (flags[e] & kNonManifold) {
+    const size_t i = size_t(std::lower_bound(non_manifold.begin(), non_manifold.end(), e) - non_manifold.begin());
+    return {non_manifold_faces.data() + non_manifold_start[i], non_manifold_faces.data() + non_manifold_start[i + 1]};
+  }
+  scratch[0] = face0[e], scratch[1] = face1[e];
+  return {scratch, face0[e] == face1[e] ? 1u : 2u};
 }
 
 namespace {
@@ -119,7 +143,12 @@ void visible_feature_edges(const EdgeMesh& m, const Viewpoint& v, std::vector<ui
     }
     const bool front0 = front_facing(m, m.face0[e], v), front1 = front_facing(m, m.face1[e], v);
     if (front0 != front1) continue;  // a silhouette, reported as such
-    if (front0) sharp.push_back(e);
+    bool front = front0;
+    if (!front && (m.flags[e] & kNonManifold)) {  // a third (or later) face may face the viewer
+      uint32_t scratch[2];
+      for (uint32_t f : m.edge_faces(e, scratch)) front |= front_facing(m, f, v);
+    }
+    if (front) sharp.push_back(e);
   }
 }
 

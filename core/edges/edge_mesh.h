@@ -30,15 +30,21 @@ struct EdgeMesh {
 
   std::vector<glm::vec3> positions;  // welded, object space
   // Unique edges: welded endpoints, adjacent faces (face1 == face0 on a border, so it is never a
-  // silhouette), feature flags.
+  // view silhouette by Equation 1), feature flags.
   std::vector<uint32_t> v0, v1, face0, face1;
   std::vector<uint8_t> flags;
   std::vector<uint32_t> feature_edges;  // edges with any flag set
+  std::vector<uint32_t> border_edges;   // edges with one face (shadow-event generators: see docs)
+  // Non-manifold edges (sorted) and all their faces (CSR): the faces of non_manifold[i] are
+  // non_manifold_faces[non_manifold_start[i], non_manifold_start[i + 1]).
+  std::vector<uint32_t> non_manifold, non_manifold_start, non_manifold_faces;
   // Faces around each welded vertex (CSR): ring_faces[ring_start[v], ring_start[v + 1]).
   std::vector<uint32_t> ring_start, ring_faces;
   float max_abs_d = 0.0f;
 
   size_t face_count() const { return d.size(); }
+  // Every face of edge e: one on a border, two on a manifold edge, all of them when non-manifold.
+  std::span<const uint32_t> edge_faces(uint32_t e, uint32_t (&scratch)[2]) const;
   size_t edge_count() const { return v0.size(); }
   size_t memory_bytes() const;
 
@@ -63,8 +69,9 @@ inline bool is_silhouette(const EdgeMesh& m, uint32_t e, const Viewpoint& v) {
 void brute_force_silhouettes(const EdgeMesh& m, const Viewpoint& v, std::vector<uint8_t>& facing,
                              std::vector<uint32_t>& out);
 
-// Sharp edges seen from the front (a front-facing adjacent face) that are not silhouettes, and
-// every border edge: the feature edges to draw from this viewpoint.
+// Sharp edges seen from the front (an adjacent face front-facing; for a non-manifold edge any of
+// its faces) that are not silhouettes, and every border edge: the feature edges to draw from
+// this viewpoint.
 void visible_feature_edges(const EdgeMesh& m, const Viewpoint& v, std::vector<uint32_t>& sharp,
                            std::vector<uint32_t>& border);
 

@@ -222,9 +222,28 @@ void shadow_edges_of_event(const ShadowEvent& event, uint32_t event_index, std::
   }
   if (candidates.empty()) return;
 
-  // 1D visibility along u: on each interval between candidate ends, the nearest candidate wins.
+  // 1D visibility along u: cut at every candidate end and wherever two candidates that overlap in
+  // u cross (interpenetrating receivers); on each interval between cuts the nearest candidate
+  // along the ray wins.
   std::vector<double> cuts;
   for (const Candidate& c : candidates) cuts.push_back(c.u0), cuts.push_back(c.u1);
+  std::vector<size_t> by_start(candidates.size());
+  for (size_t k = 0; k < by_start.size(); ++k) by_start[k] = k;
+  std::sort(by_start.begin(), by_start.end(), [&](size_t a, size_t b) { return candidates[a].u0 < candidates[b].u0; });
+  for (size_t i = 0; i < by_start.size(); ++i) {
+    const Candidate& a = candidates[by_start[i]];
+    for (size_t j = i + 1; j < by_start.size() && candidates[by_start[j]].u0 < a.u1; ++j) {
+      const Candidate& b = candidates[by_start[j]];
+      // Segments p + s (q - p) and p' + r (q' - p') in the event plane's 2D frame.
+      const glm::dvec2 da = a.q - a.p, db = b.q - b.p;
+      const double denominator = cross2(da, db);
+      if (denominator == 0.0) continue;
+      const double sa = cross2(b.p - a.p, db) / denominator, sb = cross2(b.p - a.p, da) / denominator;
+      if (sa <= 0.0 || sa >= 1.0 || sb <= 0.0 || sb >= 1.0) continue;
+      const double u = frame.u_of(a.p + sa * da);
+      if (std::isfinite(u) && u > std::max(a.u0, b.u0) && u < std::min(a.u1, b.u1)) cuts.push_back(u);
+    }
+  }
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
   int previous = -1;
