@@ -436,7 +436,7 @@ TEST(AreaShadows, TorusOnCapsuleUmbraAndPenumbraMeetAtTheContact) {
   ASSERT_GT(points[1].size(), 10u);
   ASSERT_GT(total, 10);
   EXPECT_GT(double(good) / total, 0.9) << good << " of " << total;
-  // Closest umbral-penumbral pair: close together, and at the torus.
+  // The closest umbral-penumbral pair: close together, and at the torus.
   double closest = INFINITY, widest = 0.0;
   glm::dvec3 meeting(0.0);
   for (const glm::dvec3& a : points[0]) {
@@ -448,6 +448,38 @@ TEST(AreaShadows, TorusOnCapsuleUmbraAndPenumbraMeetAtTheContact) {
     }
     widest = std::max(widest, nearest);
   }
+  // All around the contact, wherever an umbral edge reaches the torus, a penumbral edge reaches
+  // it too: the penumbra closes there (not at one lucky place only).
+  auto distance_to_kind = [&](const glm::dvec3& p, EventKind kind) {
+    double best = INFINITY;
+    for (const ShadowEdge& e : r.edges) {
+      if (e.receiver != 1 || e.blocker != 2 || e.kind != kind) continue;
+      const glm::dvec3 d = e.b - e.a;
+      const double t = std::clamp(glm::dot(p - e.a, d) / std::max(glm::dot(d, d), 1e-300), 0.0, 1.0);
+      best = std::min(best, glm::length(p - (e.a + t * d)));
+    }
+    return best;
+  };
+  int at_contact = 0;
+  std::vector<double> met;  // angles around the torus's axis where umbra and penumbra meet
+  for (const ShadowEdge& e : r.edges) {
+    if (e.receiver != 1 || e.blocker != 2 || e.kind != EventKind::umbral) continue;
+    for (const glm::dvec3& p : {e.a, e.b}) {
+      if (torus_distance(p) > 2e-3) continue;
+      ++at_contact;
+      if (distance_to_kind(p, EventKind::penumbral) < 0.02) met.push_back(std::atan2(p.z, p.x));
+    }
+  }
+  // (Umbral edges are whole event wedges: some run on inside the penumbra and reach the torus
+  // there, so not every umbral end at the contact has a penumbral edge beside it.)
+  std::sort(met.begin(), met.end());
+  int places = met.empty() ? 0 : 1, sides = 0;
+  for (size_t k = 1; k < met.size(); ++k) places += met[k] - met[k - 1] > 0.5;
+  for (double a : met) sides |= (a > 0.5 ? 1 : a < -0.5 ? 2 : 0);
+  EXPECT_GT(at_contact, 20);
+  EXPECT_GE(met.size(), 20u);
+  EXPECT_GE(places, 3);    // separate places around the ring
+  EXPECT_EQ(sides, 3);     // on both sides of the capsule's long axis
   EXPECT_LT(closest, 0.02);
   EXPECT_LT(torus_distance(meeting), 0.03);
   EXPECT_GT(widest, 5 * closest + 0.05);  // elsewhere the penumbra is wide
