@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <glm/glm.hpp>
+
 namespace fs = std::filesystem;
 using namespace epi;
 
@@ -42,17 +44,68 @@ TEST(ImageIO, ExrRoundTripKeepsLinearFloatsExactly) {
   EXPECT_EQ(back.pixels, image.pixels);
 }
 
-TEST(ImageIO, PngIsSrgbEncodedAndClamped) {
+TEST(ImageIO, PngIsSrgbEncodedAfterTheToneMap) {
   const fs::path file = temp_dir() / "round.png";
-  RgbImage image(3, 1);
-  image.at(0, 0)[0] = 0.5f;   // linear 0.5 -> sRGB 188
-  image.at(1, 0)[0] = 7.0f;   // clamped to 1
-  image.at(2, 0)[0] = -1.0f;  // clamped to 0
+  RgbImage image(4, 1);
+  image.at(0, 0)[0] = 0.5f;   // below the knee: unchanged, linear 0.5 -> sRGB 188
+  image.at(1, 0)[0] = 7.0f;   // x = 31: 0.8 + 0.2 * 31/32
+  image.at(2, 0)[0] = -1.0f;  // negative: 0
+  image.at(3, 0)[0] = 1.0f;   // x = 1: 0.9
   write_image(file, image);
   const RgbImage back = read_image(file);
   EXPECT_NEAR(back.at(0, 0)[0], 0.5f, 0.004f);
-  EXPECT_FLOAT_EQ(back.at(1, 0)[0], 1.0f);
+  EXPECT_NEAR(back.at(1, 0)[0], 0.99375f, 0.006f);
   EXPECT_FLOAT_EQ(back.at(2, 0)[0], 0.0f);
+  EXPECT_NEAR(back.at(3, 0)[0], 0.9f, 0.006f);
+}
+
+TEST(ToneMap, KnownValues) {
+  auto map = [](glm::vec3 in, float stops) {
+    glm::vec3 out;
+    tone_map(&in.x, stops, &out.x);
+    return out;
+  };
+  // Identity up to the knee, whatever the channel.
+  EXPECT_EQ(map({0.1f, 0.5f, 0.8f}, 0.0f), glm::vec3(0.1f, 0.5f, 0.8f));
+  // Exposure: one stop doubles, minus one halves.
+  EXPECT_EQ(map({0.1f, 0.2f, 0.3f}, 1.0f), glm::vec3(0.2f, 0.4f, 0.6f));
+  EXPECT_EQ(map({0.4f, 0.2f, 0.0f}, -1.0f), glm::vec3(0.2f, 0.1f, 0.0f));
+  // The shoulder on the largest channel: 1 -> 0.9, 1.8 -> 0.8 + 0.2 * 5/6, and the channels keep their ratios.
+  const glm::vec3 one = map({1.0f, 0.5f, 0.25f}, 0.0f);
+  EXPECT_NEAR(one.x, 0.9f, 1e-6f);
+  EXPECT_NEAR(one.y / one.x, 0.5f, 1e-6f);
+  EXPECT_NEAR(one.z / one.x, 0.25f, 1e-6f);
+  EXPECT_NEAR(map({0.0f, 1.8f, 0.0f}, 0.0f).y, 0.8f + 0.2f * 5.0f / 6.0f, 1e-6f);
+  // Continuous with slope 1 at the knee; monotonic; at most 1; +inf maps to 1.
+  const float k = kShoulderKnee;
+  EXPECT_NEAR((map({k + 1e-3f, 0, 0}, 0).x - map({k, 0, 0}, 0).x) / 1e-3f, 1.0f, 1e-2f);
+  float previous = 0.0f;
+  for (float v = 0.0f; v < 1000.0f; v = v * 1.3f + 0.01f) {
+    const float m = map({v, 0, 0}, 0).x;
+    EXPECT_GE(m, previous) << v;
+    EXPECT_LE(m, 1.0f) << v;
+    previous = m;
+  }
+  EXPECT_NEAR(map({INFINITY, 0.0f, 0.0f}, 0.0f).x, 1.0f, 1e-6f);
+  // Negative and NaN channels become 0.
+  EXPECT_EQ(map({-2.0f, NAN, 0.5f}, 0.0f), glm::vec3(0.0f, 0.0f, 0.5f));
+}
+
+TEST(ImageIO, ExposureAppliesToPngOnlyNotExr) {
+  const fs::path dir = temp_dir();
+  RgbImage image(1, 1);
+  image.at(0, 0)[0] = 0.1f, image.at(0, 0)[1] = 0.2f, image.at(0, 0)[2] = 0.3f;
+  ImageWriteOptions two_stops;
+  two_stops.exposure = 2.0f;
+  write_image(dir / "e.exr", image, two_stops);
+  write_image(dir / "e.png", image, two_stops);
+  EXPECT_EQ(read_image(dir / "e.exr").pixels, image.pixels);
+  // (0.4, 0.8, 1.2): the largest, 1.2, has x = 2 and maps to 0.8 + 0.2 * 2/3; all three scaled by that gain.
+  const float gain = (0.8f + 0.2f * 2.0f / 3.0f) / 1.2f;
+  const RgbImage png = read_image(dir / "e.png");
+  EXPECT_NEAR(png.at(0, 0)[0], 0.4f * gain, 0.004f);
+  EXPECT_NEAR(png.at(0, 0)[1], 0.8f * gain, 0.006f);
+  EXPECT_NEAR(png.at(0, 0)[2], 1.2f * gain, 0.006f);
 }
 
 TEST(ImageIO, BadPathsFailBeforeWritingAndNameTheFile) {

@@ -75,12 +75,37 @@ TEST(FramesCli, SyncRunsGiveTheSameBytesAndTheStatsOfTheIssue) {
     EXPECT_NEAR(fractions, 1.0, 1e-9);
     EXPECT_NEAR(stats["samples_per_frame"].get<double>(), 96.0, 1e-9);  // 5% of 48x40
     EXPECT_NEAR(stats["sparseness"].get<double>(), 20.0, 1e-9);
+    // Rays the shader traced: at least one per sample, and counted over its own working time.
+    EXPECT_NEAR(stats["samples"].get<double>(), 4 * 96.0, 1e-9);
+    EXPECT_GE(stats["rays"].get<double>(), stats["samples"].get<double>());
+    EXPECT_GT(stats["shading_ms"].get<double>(), 0.0);
+    EXPECT_NEAR(stats["mrays_per_s"].get<double>(),
+                stats["rays"].get<double>() / (stats["shading_ms"].get<double>() * 1e-3) * 1e-6, 1e-6);
     if (std::string(mode) == "epi") {
       EXPECT_GT(stats["edges"]["border"].get<double>() + stats["edges"]["silhouette"].get<double>(), 0.0);
     } else {
       EXPECT_EQ(stats["edges"]["silhouette"].get<double>(), 0.0);
     }
   }
+  fs::remove_all(dir);
+}
+
+// One asynchronous frame: its requests go out at the end of the frame, so no result has arrived
+// yet. Sparseness (pixels per sample) is then undefined: null, not 0.
+TEST(FramesCli, SparsenessIsNullWhenNoSampleArrived) {
+  const fs::path dir = temp_dir();
+  const EpiRun run = run_epi("render " + kScene + " --size 48x40 --frames 1 --quiet -o " + (dir / "a.png").string() +
+                             " --stats " + (dir / "a.json").string());
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  const nlohmann::json stats = nlohmann::json::parse(read_file(dir / "a.json"));
+  const double samples = stats["samples"].get<double>();
+  if (samples == 0.0) {
+    EXPECT_TRUE(stats["sparseness"].is_null()) << stats["sparseness"];
+    EXPECT_NE(run.out.find("sparseness -"), std::string::npos) << run.out;
+  } else {  // a shader fast enough to deliver within the frame
+    EXPECT_NEAR(stats["sparseness"].get<double>(), 48.0 * 40.0 / samples, 1e-9);
+  }
+  EXPECT_GE(stats["rays"].get<double>(), samples);
   fs::remove_all(dir);
 }
 
