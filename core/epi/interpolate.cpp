@@ -118,7 +118,7 @@ void fallback_color(const EpiImage& epi, TypePlane types, int x, int y, float rg
 float interpolate_pixel(const EpiImage& epi, TypePlane types, int x, int y, uint32_t reach, float rgb[3],
                         bool* found) {
   const size_t centre = epi.index(x, y);
-  const bool complex = types.types[centre] == kTypeComplex;
+  const bool complex = edge_code(epi.edge[centre]) == kComplexCode;
   const float total = complex ? simple_estimate(epi, x, y, rgb)
                               : weighted_sum(epi, x, y, window_mask(reach), bits::kUsable, rgb);
   if (found) *found = total > 0;

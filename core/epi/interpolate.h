@@ -1,5 +1,5 @@
 // Edge-respecting interpolation of the primary colour, and the sampling priority.
-// Footprint: 5x5 samples + the pixel's reachability mask; 7x7 samples for the last fallback.
+// Footprint: 5x5 samples + the pixel's reachability mask; 7x7 types and samples for the fallback.
 // Kernel: w(dx, dy) = 1 / (1 + dx^2 + dy^2)^2 (1, 1/4, 1/9, 1/25, 1/36, 1/81): sharply peaked;
 // unreachable pixels and pixels without a usable sample weigh 0 and the rest are renormalized.
 // Complex pixels use every sample of the 5x5 (the paper's simple estimate). A pixel that
