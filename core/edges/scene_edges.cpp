@@ -234,6 +234,7 @@ std::vector<LightBlockerReceiver> SceneEdgeFinder::find_triples(const Scene& sce
 
 void SceneEdgeFinder::shadow_edges(const Scene& scene, std::span<const LightBlockerReceiver> triples,
                                    std::vector<SceneEdge>& out) {
+  light_names_.clear();  // called every frame: the names are rebuilt, not appended
   lights_ = scene_lights(scene, &light_names_);
   std::vector<LightBlockerReceiver> sorted(triples.begin(), triples.end());
   std::sort(sorted.begin(), sorted.end());

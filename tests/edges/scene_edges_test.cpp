@@ -2,7 +2,11 @@
 // viewpoints, the scene-level edges are what their kinds say, and the per-object choice rule.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <filesystem>
+#include <set>
+#include <tuple>
 #include <random>
 
 #include "edges/scene_edges.h"
@@ -45,15 +49,44 @@ TEST_P(BundledScene, TreeEqualsBruteForceAndEdgesAreWhatTheySay) {
     }
   }
 
-  // Scene edges from the default camera: kinds hold in each object's frame.
-  const glm::dvec3 eye(scene.cameras.empty() ? glm::vec3(0, 0, 5) : scene.cameras[0].eye);
-  std::vector<SceneEdge> edges;
-  finder.view_edges(scene, eye, edges);
-  EXPECT_FALSE(edges.empty());
-  for (const SceneEdge& e : edges) {
-    ASSERT_LT(e.object, scene.objects.size());
-    EXPECT_TRUE(e.kind == EdgeKind::silhouette || e.kind == EdgeKind::sharp || e.kind == EdgeKind::border);
-    EXPECT_GT(glm::length(e.b - e.a), 0.0);
+  // Scene edges from the default camera and from a point inside the scene: exactly the edges a
+  // plain scalar pass over every edge of every object says, each with its kind (a silhouette by
+  // Equation 1 on its first two faces; else sharp if flagged and any face is front-facing; border
+  // always), in world space.
+  for (const glm::dvec3& eye : {glm::dvec3(scene.cameras.empty() ? glm::vec3(0, 0, 5) : scene.cameras[0].eye), centre}) {
+    std::vector<SceneEdge> edges;
+    finder.view_edges(scene, eye, edges);
+    EXPECT_FALSE(edges.empty());
+    std::set<std::tuple<uint32_t, int, std::array<double, 6>>> got, expected;
+    for (const SceneEdge& e : edges) {
+      ASSERT_LT(e.object, scene.objects.size());
+      got.insert({e.object, int(e.kind), {e.a.x, e.a.y, e.a.z, e.b.x, e.b.y, e.b.z}});
+    }
+    EXPECT_EQ(got.size(), edges.size()) << "an edge reported twice";
+    for (uint32_t o = 0; o < scene.objects.size(); ++o) {
+      const glm::dmat4 to_world(scene.objects[o].object_to_world);
+      const EdgeMesh& m = finder.edge_mesh(scene.objects[o].mesh);
+      const Viewpoint v = m.local_point(glm::dvec3(glm::inverse(to_world) * glm::dvec4(eye, 1.0)));
+      for (uint32_t e = 0; e < m.edge_count(); ++e) {
+        auto faces_front = [&](uint32_t f) { return m.nx[f] * v.x + m.ny[f] * v.y + m.nz[f] * v.z - m.d[f] * v.w > 0.0f; };
+        bool any_front = faces_front(m.face0[e]) || faces_front(m.face1[e]);
+        if (m.flags[e] & kNonManifold)  // every face on the edge: the faces around v0 that hold v1
+          for (uint32_t r = m.ring_start[m.v0[e]]; r < m.ring_start[m.v0[e] + 1]; ++r) {
+            const glm::uvec3& f = m.faces[m.ring_faces[r]];
+            if (f.x == m.v1[e] || f.y == m.v1[e] || f.z == m.v1[e]) any_front |= faces_front(m.ring_faces[r]);
+          }
+        int kind = -1;
+        const bool f0 = faces_front(m.face0[e]), f1 = faces_front(m.face1[e]);
+        if (m.flags[e] & kBorder) kind = int(EdgeKind::border);
+        else if (f0 != f1) kind = int(EdgeKind::silhouette);
+        else if ((m.flags[e] & kSharp) && any_front) kind = int(EdgeKind::sharp);
+        if (kind < 0) continue;
+        const glm::dvec3 a(to_world * glm::dvec4(glm::dvec3(m.positions[m.v0[e]]), 1.0));
+        const glm::dvec3 b(to_world * glm::dvec4(glm::dvec3(m.positions[m.v1[e]]), 1.0));
+        expected.insert({o, kind, {a.x, a.y, a.z, b.x, b.y, b.z}});
+      }
+    }
+    EXPECT_TRUE(got == expected) << GetParam() << ": " << got.size() << " edges reported, " << expected.size() << " expected";
   }
 }
 
