@@ -12,6 +12,7 @@
 #include <tbb/global_control.h>
 
 #include "edges/edge_tree.h"
+#include "edges/shadow_events.h"
 #include "load_scene.h"
 #include "test_meshes.h"
 
@@ -137,6 +138,29 @@ void BM_BruteForce(benchmark::State& state) {
   state.counters["edges"] = double(p.mesh.edge_count());
 }
 
+// Area-light events (VE and EV) of the mesh under a square light of half the mesh's radius, two
+// radii above it, through the tree (as the finder does when its rule picks the tree) and by brute
+// force over the edges.
+void BM_AreaEvents(benchmark::State& state) {
+  Prepared& p = prepared(state.range(0));
+  const bool tree = state.range(1) != 0;
+  state.SetLabel(cases()[state.range(0)].name + (tree ? " tree" : " brute force"));
+  double radius = 0.0;
+  for (const glm::vec3& q : p.mesh.positions) radius = std::max(radius, glm::length(glm::dvec3(q) - p.mesh.origin));
+  EdgeLight light;
+  light.type = EdgeLight::Type::area;
+  const glm::dvec3 c = p.mesh.origin + glm::dvec3(0.3, 2.0, 0.2) * radius;
+  const double h = 0.25 * radius;
+  light.outlines = {{c + glm::dvec3(-h, 0, -h), c + glm::dvec3(h, 0, -h), c + glm::dvec3(h, 0, h), c + glm::dvec3(-h, 0, h)}};
+  const BlockerView blocker{&p.mesh, tree ? &p.tree : nullptr, glm::dmat4(1.0), 0};
+  std::vector<ShadowEvent> events;
+  for (auto _ : state) {
+    events.clear();
+    find_shadow_events(blocker, light, 0, events);
+  }
+  state.counters["events"] = double(events.size());
+}
+
 void register_all() {
   for (size_t i = 0; i < cases().size(); ++i) {
     benchmark::RegisterBenchmark("EdgeMesh", BM_EdgeMesh)->Arg(int64_t(i))->Unit(benchmark::kMillisecond);
@@ -144,6 +168,8 @@ void register_all() {
       benchmark::RegisterBenchmark("TreeBuild", BM_TreeBuild)->Args({int64_t(i), threads})->Unit(benchmark::kMillisecond)->UseRealTime();
     benchmark::RegisterBenchmark("TreeQuery", BM_TreeQuery)->Arg(int64_t(i))->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark("BruteForce", BM_BruteForce)->Arg(int64_t(i))->Unit(benchmark::kMicrosecond);
+    for (int tree : {1, 0})
+      benchmark::RegisterBenchmark("AreaEvents", BM_AreaEvents)->Args({int64_t(i), tree})->Unit(benchmark::kMillisecond);
   }
 }
 
