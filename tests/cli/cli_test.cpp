@@ -64,11 +64,22 @@ EpiRun run_epi(const std::string& args) {
 constexpr int kUsage = 2;  // the command line does not parse
 constexpr int kFailed = 1;
 
+fs::path temp_root() { return fs::temp_directory_path() / ("epi-cli-test-" + std::to_string(::getpid())); }
+
 fs::path temp_dir(const std::string& name = "") {
-  fs::path dir = fs::temp_directory_path() / ("epi-cli-test-" + std::to_string(::getpid())) / name;
+  fs::path dir = temp_root() / name;
   fs::create_directories(dir);
   return dir;
 }
+
+// Removes this process's scratch folder after the last test.
+struct RemoveScratch : ::testing::Environment {
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(temp_root(), ec);
+  }
+};
+const auto* const kRemoveScratch = ::testing::AddGlobalTestEnvironment(new RemoveScratch);
 
 std::string scene_path(const std::string& name) { return std::string(EPI_SOURCE_DIR) + "/scenes/" + name; }
 const std::string kCornell = scene_path("cornell_box.gltf");
@@ -394,9 +405,10 @@ TEST(Cli, SubdivLevelSetsTheTessellation) {
   const fs::path dir = temp_dir("subdiv");
   size_t triangles[2];
   for (int level : {0, 1}) {
-    const fs::path stats = dir / ("s" + std::to_string(level) + ".json");
+    const std::string level_text = std::to_string(level);
+    const fs::path stats = dir / ("s" + level_text + ".json");
     const EpiRun run = run_epi("render " + scene_path("chains.gltf") + " --mode reference --size 8x8 --spp 1 --quiet" +
-                               " --area-light-samples 1 --subdiv-level " + std::to_string(level) + " -o " +
+                               " --area-light-samples 1 --subdiv-level " + level_text + " -o " +
                                (dir / "s.exr").string() + " --stats " + stats.string());
     ASSERT_EXIT_CODE(run, 0);
     triangles[level] = read_json(stats)["triangles"].get<size_t>();
