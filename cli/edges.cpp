@@ -66,6 +66,7 @@ int run_edges(const EdgesOptions& options) {
   check_output_file(options.output);
   if (!options.svg.empty()) check_output_file(options.svg);
   if (!options.stats.empty()) check_output_file(options.stats);
+  check_distinct_outputs({options.output, options.svg, options.stats});
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, options.threads);

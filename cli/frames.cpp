@@ -82,6 +82,12 @@ int run_render_frames(const RenderOptions& options) {
   const auto start = Clock::now();
   check_output_image(options.output);
   if (!options.stats.empty()) check_output_file(options.stats);
+  if (options.frames_out.empty()) {
+    check_distinct_outputs({options.output, options.stats});
+  } else {
+    const std::string last = options.frames > 1 ? frame_file(options.frames_out, options.frames - 1) : "";
+    check_distinct_outputs({options.output, options.stats, frame_file(options.frames_out, 0), last});
+  }
   if (!options.frames_out.empty())
     for (int f : {0, options.frames - 1}) check_output_image(frame_file(options.frames_out, f));
   const ShaderSettings shader_settings_ = shader_settings(options);

@@ -52,6 +52,18 @@ void check_output_file(const fs::path& file) {
     throw std::runtime_error(file.string() + ": exists and is not writable");
 }
 
+void check_distinct_outputs(const std::vector<std::string>& files) {
+  std::vector<fs::path> seen;
+  for (const std::string& file : files) {
+    if (file.empty()) continue;
+    std::error_code ec;
+    const fs::path canonical = fs::weakly_canonical(fs::absolute(file), ec);
+    if (std::find(seen.begin(), seen.end(), canonical) != seen.end())
+      throw std::runtime_error(file + ": given for two outputs");
+    seen.push_back(canonical);
+  }
+}
+
 void check_output_image(const fs::path& file) {
   check_output_path(file);  // the extension
   check_output_file(file);

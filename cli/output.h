@@ -39,6 +39,8 @@ class ProgressBar {
 // exists and is writable, and the file is not a folder (nor an existing read-only file).
 // Call for every output before long work starts.
 void check_output_file(const std::filesystem::path& file);
+// Throws "<file>: given for two outputs" if two of the non-empty paths name the same file.
+void check_distinct_outputs(const std::vector<std::string>& files);
 // The same, plus a supported image extension (io/image).
 void check_output_image(const std::filesystem::path& file);
 

@@ -46,6 +46,7 @@ int run_reconstruct(const ReconstructOptions& options) {
   if (options.output.empty()) throw std::invalid_argument("missing output file (-o)");
   check_output_image(options.output);
   if (!options.stats.empty()) check_output_file(options.stats);
+  check_distinct_outputs({options.output, options.stats});
   if (options.threads < 0) throw std::invalid_argument("--threads must be >= 0");
 
   const auto start = Clock::now();

@@ -70,6 +70,7 @@ int run_render(const RenderOptions& options) {
   // Fail on a bad output path before any long work.
   check_output_image(options.output);
   if (!options.stats.empty()) check_output_file(options.stats);
+  check_distinct_outputs({options.output, options.stats});
   const ShaderSettings settings = shader_settings(options);
 
   std::unique_ptr<tbb::global_control> thread_limit;

@@ -211,6 +211,8 @@ TEST(Cli, BadSecondaryOutputLeavesNoOutputAtAll) {
       {"edges " + kCornell + " -o " + edges + " --stats " + folder.string(), folder.string()},
       {"edges " + kCornell + " -o " + edges + " --svg " + folder.string(), folder.string()},
       {"edges " + kCornell + " -o " + folder.string(), folder.string()},
+      {"edges " + kCornell + " -o " + edges + " --stats " + (dir / "." / "edges.json").string(), (dir / "." / "edges.json").string()},
+      {"render " + kCornell + " --mode raytrace --size 16x12 --quiet -o " + image + " --stats " + image, image},
   };
   for (const Case& c : cases) {
     const EpiRun run = run_epi(c.args);
