@@ -100,12 +100,38 @@ struct EvPiece {
   EventKind kind;
 };
 
+struct EvScratch {
+  std::vector<double> cuts;
+  std::vector<std::pair<double, double>> arcs;
+};
+
+// Whether the faces around w bound a convex cone (no reflex edge at w): every corner of the ring on
+// or below every ring face's plane, up to the rounding of float vertex positions (coplanar
+// neighbours, such as the two halves of a planar quad, come out a few ulps either way). The image
+// of a convex cone is a sector narrower than a half-plane, or the whole plane: never an umbral EV
+// event.
+bool convex_cone(const glm::dvec3& w, const std::vector<Corner>& ring) {
+  double magnitude = glm::length(w);
+  for (const Corner& c : ring) magnitude = std::max({magnitude, glm::length(c.p), glm::length(c.q)});
+  const double tolerance = 2e-6 * magnitude;
+  for (const Corner& f : ring) {
+    glm::dvec3 normal = glm::cross(f.p - w, f.q - w);
+    const double length = glm::length(normal);
+    if (!(length > 0.0)) continue;
+    normal /= length;
+    for (const Corner& g : ring)
+      if (glm::dot(normal, g.p - w) > tolerance || glm::dot(normal, g.q - w) > tolerance) return false;
+  }
+  return true;
+}
+
+// `convex`: the vertex's convex_cone(), computed on first use (-1: not yet).
 void ev_pieces(const glm::dvec3& s0, const glm::dvec3& s1, const glm::dvec3& w, const glm::dvec3& n,
-               const std::vector<Corner>& ring, std::vector<EvPiece>& out) {
+               const std::vector<Corner>& ring, int& convex, EvScratch& scratch, std::vector<EvPiece>& out) {
   constexpr double kRelative = 1e-9;
   auto height = [&](const glm::dvec3& p) {
     const double h = glm::dot(n, p - w);
-    return std::fabs(h) <= kRelative * glm::length(p - w) ? 0.0 : h;
+    return h * h <= kRelative * kRelative * glm::dot(p - w, p - w) ? 0.0 : h;
   };
   bool above = false, below = false;
   for (const Corner& c : ring)
@@ -118,13 +144,16 @@ void ev_pieces(const glm::dvec3& s0, const glm::dvec3& s1, const glm::dvec3& w, 
     out.push_back({0.0, 1.0, EventKind::penumbral});
     return;
   }
+  if (convex < 0) convex = convex_cone(w, ring);
+  if (convex) return;
 
   // The light-edge point S(u) seen through w along the line from a point c of the event plane.
   auto u_through = [&](const glm::dvec3& c) {
     const double denominator = glm::dot(n, glm::cross(c - w, s1 - s0));
     return denominator == 0.0 ? -1.0 : -glm::dot(n, glm::cross(c - w, s0 - w)) / denominator;
   };
-  std::vector<double> cuts = {0.0, 1.0};
+  std::vector<double>& cuts = scratch.cuts;
+  cuts.assign({0.0, 1.0});
   for (const Corner& c : ring) {
     const double hp = height(c.p), hq = height(c.q);
     if (hp == 0.0) cuts.push_back(u_through(c.p));
@@ -134,7 +163,7 @@ void ev_pieces(const glm::dvec3& s0, const glm::dvec3& s1, const glm::dvec3& w, 
   std::sort(cuts.begin(), cuts.end());
   cuts.erase(std::remove_if(cuts.begin(), cuts.end(), [](double u) { return !(u >= 0.0 && u <= 1.0); }), cuts.end());
 
-  std::vector<std::pair<double, double>> arcs;
+  std::vector<std::pair<double, double>>& arcs = scratch.arcs;
   auto light_side_covered = [&](const glm::dvec3& s) {
     // Image frame at w: e1 along the event line, n across it (light side positive).
     const glm::dvec3 e1 = glm::cross(n, glm::normalize(w - s));
@@ -283,24 +312,32 @@ void area_light_events(const BlockerView& b, const EdgeLight& light, uint32_t li
     }
   }
 
-  // EV events: every blocker vertex on the outline of the blocker's image from some point of the
-  // light (an end of such an edge, or of a border edge) against every light edge; each (light
-  // edge, vertex) pair is tested once, in a fixed order (the same for the tree and brute force).
-  std::vector<uint32_t> vertices;
+  // EV events: every blocker vertex on the outline of the blocker's image from some point of a
+  // light edge (an end of an edge that is a silhouette from there, or of a border edge) against
+  // that light edge; each (light edge, vertex) pair is tested once, in a fixed order (the same for
+  // the tree and brute force). `touched` holds one bit per light edge (all bits past 64 edges).
+  size_t light_edges = 0;
+  for (const auto& loop : light.outlines) light_edges += loop.size() >= 3 ? loop.size() : 0;
+  const bool per_edge_bits = light_edges <= 64;
+  std::vector<uint64_t> touched(m.positions.size(), 0);
   for (uint32_t e : candidates) {
-    bool from_light = false;
-    for (size_t l = 0; l < local_double.size() && !from_light; ++l)
-      for (size_t i = 0; i < local_double[l].size() && !from_light; ++i)
-        from_light = silhouette_along(m, e, local_double[l][i], local_double[l][(i + 1) % local_double[l].size()]);
-    if (from_light) vertices.push_back(m.v0[e]), vertices.push_back(m.v1[e]);
+    uint64_t bits = 0;
+    size_t k = 0;
+    for (size_t l = 0; l < local_double.size(); ++l) {
+      const size_t n = local_double[l].size();
+      if (n < 3) continue;
+      for (size_t i = 0; i < n; ++i, ++k)
+        if (silhouette_along(m, e, local_double[l][i], local_double[l][(i + 1) % n])) bits |= per_edge_bits ? uint64_t(1) << k : ~uint64_t(0);
+    }
+    touched[m.v0[e]] |= bits, touched[m.v1[e]] |= bits;
   }
-  for (uint32_t e : m.border_edges) vertices.push_back(m.v0[e]), vertices.push_back(m.v1[e]);
-  std::sort(vertices.begin(), vertices.end());
-  vertices.erase(std::unique(vertices.begin(), vertices.end()), vertices.end());
+  for (uint32_t e : m.border_edges) touched[m.v0[e]] = touched[m.v1[e]] = ~uint64_t(0);
 
   std::vector<Corner> ring;
   std::vector<EvPiece> pieces;
-  for (uint32_t w : vertices) {
+  EvScratch scratch;
+  for (uint32_t w = 0; w < touched.size(); ++w) {
+    if (!touched[w]) continue;
     const glm::dvec3& wp = world_blocker[w];
     ring.clear();
     for (uint32_t r = m.ring_start[w]; r < m.ring_start[w + 1]; ++r) {
@@ -308,11 +345,14 @@ void area_light_events(const BlockerView& b, const EdgeLight& light, uint32_t li
       const int k = f.x == w ? 0 : f.y == w ? 1 : 2;
       ring.push_back({world_blocker[f[(k + 1) % 3]], world_blocker[f[(k + 2) % 3]]});
     }
+    int convex = -1;
+    size_t k = 0;
     for (size_t l = 0; l < light.outlines.size(); ++l) {
       const auto& loop = light.outlines[l];
       const size_t n = loop.size();
       if (n < 3) continue;
-      for (size_t j = 0; j < n; ++j) {
+      for (size_t j = 0; j < n; ++j, ++k) {
+        if (per_edge_bits && !((touched[w] >> k) & 1)) continue;
         const glm::dvec3 &s0 = loop[j], &s1 = loop[(j + 1) % n];
         glm::dvec3 normal = glm::cross(s1 - s0, wp - s0);
         const double length = glm::length(normal);
@@ -325,7 +365,7 @@ void area_light_events(const BlockerView& b, const EdgeLight& light, uint32_t li
         if (std::fabs(light_side) <= 1e-9) continue;
         if (light_side < 0.0) normal = -normal;
         pieces.clear();
-        ev_pieces(s0, s1, wp, normal, ring, pieces);
+        ev_pieces(s0, s1, wp, normal, ring, convex, scratch, pieces);
         for (const EvPiece& piece : pieces) {
           ShadowEvent ev;
           ev.shape = EventShape::edge_vertex;
