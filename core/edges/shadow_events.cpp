@@ -83,18 +83,7 @@ struct Corner {
   glm::dvec3 p, q;
 };
 
-// The EV test for one light edge [s0, s1] and one blocker vertex w (docs/edges.md, "EV events").
-// `n` is the unit normal of the plane through the light edge and w, oriented so that the light
-// lies on its positive side. Seen along a ray from a light-edge point through w, each face around
-// w covers a sector around the image of w; the event plane's trace is the line through it along
-// the light edge. The plane is an event of the shadow-volume boundary where the image of w, moving
-// across that line, changes whether the light is touched or covered:
-//   penumbral: every face lies strictly on the far side (the blocker just touches the light's edge
-//              from outside);
-//   umbral:    the faces cover the whole light side of the line and leave a gap on the far side
-//              (a saddle or concave vertex: the light is just covered, a hole is about to open).
-// The first depends on the plane only; the second on the ray direction too, so the light edge is
-// cut where a face plane at w crosses it and each piece is tested. Appends [u0, u1] pieces.
+// A part [u0, u1] of a light edge whose EV event with a vertex exists, and its kind.
 struct EvPiece {
   double u0, u1;
   EventKind kind;
@@ -125,6 +114,18 @@ bool convex_cone(const glm::dvec3& w, const std::vector<Corner>& ring) {
   return true;
 }
 
+// The EV test for one light edge [s0, s1] and one blocker vertex w (docs/edges.md, "EV events").
+// `n` is the unit normal of the plane through the light edge and w, oriented so that the light
+// lies on its positive side. Seen along a ray from a light-edge point through w, each face around
+// w covers a sector around the image of w; the event plane's trace is the line through it along
+// the light edge. The plane is an event of the shadow-volume boundary where the image of w, moving
+// across that line, changes whether the light is touched or covered:
+//   penumbral: every face lies strictly on the far side (the blocker just touches the light's edge
+//              from outside);
+//   umbral:    the faces cover the whole light side of the line and leave a gap on the far side
+//              (a saddle or concave vertex: the light is just covered, a hole is about to open).
+// The first depends on the plane only; the second on the ray direction too, so the light edge is
+// cut where a face plane at w crosses it and each piece is tested. Appends [u0, u1] pieces.
 // `convex`: the vertex's convex_cone(), computed on first use (-1: not yet).
 void ev_pieces(const glm::dvec3& s0, const glm::dvec3& s1, const glm::dvec3& w, const glm::dvec3& n,
                const std::vector<Corner>& ring, int& convex, EvScratch& scratch, std::vector<EvPiece>& out) {
@@ -331,7 +332,13 @@ void area_light_events(const BlockerView& b, const EdgeLight& light, uint32_t li
     }
     touched[m.v0[e]] |= bits, touched[m.v1[e]] |= bits;
   }
-  for (uint32_t e : m.border_edges) touched[m.v0[e]] = touched[m.v1[e]] = ~uint64_t(0);
+  // An open fan (a vertex on a border) may be part of a convex cone seen from inside it, whose
+  // image covers more than a half-plane: the convex shortcut does not apply there.
+  std::vector<uint8_t> on_border(m.positions.size(), 0);
+  for (uint32_t e : m.border_edges) {
+    touched[m.v0[e]] = touched[m.v1[e]] = ~uint64_t(0);
+    on_border[m.v0[e]] = on_border[m.v1[e]] = 1;
+  }
 
   std::vector<Corner> ring;
   std::vector<EvPiece> pieces;
@@ -345,7 +352,7 @@ void area_light_events(const BlockerView& b, const EdgeLight& light, uint32_t li
       const int k = f.x == w ? 0 : f.y == w ? 1 : 2;
       ring.push_back({world_blocker[f[(k + 1) % 3]], world_blocker[f[(k + 2) % 3]]});
     }
-    int convex = -1;
+    int convex = on_border[w] ? 0 : -1;
     size_t k = 0;
     for (size_t l = 0; l < light.outlines.size(); ++l) {
       const auto& loop = light.outlines[l];
