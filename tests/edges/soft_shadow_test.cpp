@@ -322,6 +322,30 @@ TEST(HardShadowsOfOpenSurfaces, PlateUnderAPointLight) {
   }
 }
 
+TEST(HardShadowsOfOpenSurfaces, PlateUnderADirectionalLight) {
+  World w;
+  w.add(grid(16, 8.0f), glm::mat4(1.0f));
+  w.add(grid(3, 0.8f), at({0.0f, 1.0f, 0.1f}, 15.0f, {1, 0, 0}));
+  PunctualLight sun;
+  sun.type = LightType::directional;
+  sun.direction = glm::normalize(glm::vec3(-0.3f, -1.0f, 0.2f));
+  w.scene.punctual_lights.push_back(sun);
+  SceneEdgeFinder finder(w.scene);
+  std::vector<SceneEdge> edges;
+  finder.shadow_edges(w.scene, finder.find_triples(w.scene), edges);
+  const glm::dvec3 travel(sun.direction);
+  int on_floor = 0, separating = 0;
+  for (const SceneEdge& e : edges) {
+    if (e.object != 0 || e.blocker != 1) continue;
+    ++on_floor;
+    const glm::dvec3 m = 0.5 * (e.a + e.b) + glm::dvec3(0, 1e-4, 0);
+    const glm::dvec3 across = glm::normalize(glm::cross(glm::dvec3(0, 1, 0), e.b - e.a)) * 2e-3;
+    separating += w.sees_direction(m + across, travel) != w.sees_direction(m - across, travel);
+  }
+  EXPECT_GE(on_floor, 12);  // the plate's 12 border edges (no silhouette on a flat plate)
+  EXPECT_EQ(separating, on_floor);
+}
+
 TEST(ShadowClipping, InterpenetratingReceivers) {
   // A tilted plate passing through the floor: the sphere's hard shadow falls across the line
   // where they cross. Every shadow edge must lie on the surface nearest the light, on either side
