@@ -40,7 +40,7 @@ struct Frame {
   RgbImage primary;               // EPI interpolation (input of the fill step)
   std::vector<uint8_t> found;
   std::vector<uint8_t> types;     // the pixel types (read-only plane)
-  TypePlane type_plane() const { return {types.data(), epi.width, epi.height}; }
+  EpiRows rows() const { return whole_image_rows(epi, types.data()); }
   double floor_seconds = 0;  // streaming read+write of the 10-byte pixels, one thread
 };
 
@@ -102,7 +102,7 @@ Frame& frame(int w, int h) {
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         bool found = false;
-        interpolate_pixel(f->epi, f->type_plane(), x, y, reach_mask(f->epi.cache[f->epi.index(x, y)]), f->primary.at(x, y), &found);
+        interpolate_pixel(f->rows(), x, y, reach_mask(f->epi.cache[f->epi.index(x, y)]), f->primary.at(x, y), &found);
         f->found[f->epi.index(x, y)] = found;
       }
     f->floor_seconds = streaming_floor(f->epi);
@@ -171,7 +171,7 @@ void BM_Reachability(benchmark::State& state) {
   std::vector<uint32_t> out(size_t(w) * h);
   std::vector<uint8_t> types(size_t(w) * h);
   for (size_t i = 0; i < types.size(); ++i) types[i] = uint8_t(pixel_type(f.epi.cache[i]));
-  const TypePlane plane{types.data(), w, h};
+  const TypeRows plane{types.data(), w, h};
   const int threads = int(state.range(2));
   timed(state, f, [&] {
     run_rows(threads, h, [&](int y0, int y1) {
@@ -197,7 +197,7 @@ void BM_Interpolate(benchmark::State& state) {
     run_rows(int(state.range(2)), f.epi.height, [&](int y0, int y1) {
       for (int y = y0; y < y1; ++y)
         for (int x = 0; x < f.epi.width; ++x)
-          interpolate_pixel(f.epi, f.type_plane(), x, y, reach_mask(f.epi.cache[f.epi.index(x, y)]), out.at(x, y));
+          interpolate_pixel(f.rows(), x, y, reach_mask(f.epi.cache[f.epi.index(x, y)]), out.at(x, y));
     });
     benchmark::DoNotOptimize(out.pixels.data());
   });
@@ -233,7 +233,7 @@ void BM_AntiAlias(benchmark::State& state) {
       for (int y = y0; y < y1; ++y) {
         const float* rows[3] = {y > 0 ? f.interpolated.at(0, y - 1) : nullptr, f.interpolated.at(0, y),
                                 y + 1 < h ? f.interpolated.at(0, y + 1) : nullptr};
-        for (int x = 0; x < w; ++x) antialias_pixel(f.epi, x, y, rows, out.at(x, y));
+        for (int x = 0; x < w; ++x) antialias_pixel(f.rows(), x, y, rows, out.at(x, y));
       }
     });
     benchmark::DoNotOptimize(out.pixels.data());
@@ -251,7 +251,7 @@ void BM_Complex(benchmark::State& state) {
       for (int y = y0; y < y1; ++y)
         for (int x = 0; x < w; ++x)
           if (pixel_type(f.epi.cache[f.epi.index(x, y)]) == kTypeComplex)
-            complex_pixel(f.epi, f.masks, x, y, f.interpolated.at(x, y), out.at(x, y));
+            complex_pixel(f.rows(), f.masks, x, y, f.interpolated.at(x, y), out.at(x, y));
     });
     benchmark::DoNotOptimize(out.pixels.data());
   });
@@ -264,7 +264,7 @@ void BM_RenderCache(benchmark::State& state) {
   timed(state, f, [&] {
     run_rows(int(state.range(2)), f.epi.height, [&](int y0, int y1) {
       for (int y = y0; y < y1; ++y)
-        for (int x = 0; x < f.epi.width; ++x) rendercache_pixel(f.epi, x, y, out.at(x, y));
+        for (int x = 0; x < f.epi.width; ++x) rendercache_pixel(f.rows(), x, y, out.at(x, y));
     });
     benchmark::DoNotOptimize(out.pixels.data());
   });

@@ -5,13 +5,13 @@
 
 namespace epi {
 
-void antialias_pixel(const EpiImage& epi, int x, int y, const float* const rows[3], float out[3]) {
+void antialias_pixel(const EpiRows& epi, int x, int y, const float* const rows[3], float out[3]) {
   const float* own = rows[1] + 3 * x;
-  const int type = pixel_type(epi.cache[epi.index(x, y)]);
+  const int type = epi.type_at(x, y);
   out[0] = own[0], out[1] = own[1], out[2] = own[2];
   if (!type_is_simple(type)) return;
   const EpiTables& t = epi_tables();
-  const int code = edge_code(epi.edge[epi.index(x, y)]);
+  const int code = edge_code(epi.edge_at(x, y));
   const bool primary_is_b = (type - 2) & 1;
   const int k = t.neighbour_for_secondary(code, !primary_is_b);
   const int nx = x + kNeighbourDx[k], dy = kNeighbourDy[k];

@@ -3,11 +3,12 @@
 // secondary region), a = the primary region's area; all in linear light.
 #pragma once
 
-#include "epi/epi_pixel.h"
+#include "epi/rows.h"
 
 namespace epi {
 
-// rows[k] = interpolated RGB of row y - 1 + k (nullptr outside the image).
-void antialias_pixel(const EpiImage& epi, int x, int y, const float* const rows[3], float out[3]);
+// rows[k] = interpolated RGB of row y - 1 + k (nullptr outside the image); `epi`: pixel (x, y)'s
+// type and edge code.
+void antialias_pixel(const EpiRows& epi, int x, int y, const float* const rows[3], float out[3]);
 
 }  // namespace epi

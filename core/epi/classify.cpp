@@ -1,18 +1,19 @@
 #include "epi/classify.h"
 
+#include <vector>
+
 #include "epi/geometry.h"
 #include "epi/tables.h"
 
 namespace epi {
 
-CellKind classify_pixel(EpiImage& epi, const BoundaryMasks& masks, int x, int y) {
+PixelClass classify_pixel(const BoundaryMasks& masks, int x, int y, uint16_t edge) {
   const EpiTables& t = epi_tables();
-  const size_t i = epi.index(x, y);
   uint8_t sides[4];
   masks.pixel_sides(x, y, sides);
   const bool no_crossing = (sides[0] | sides[1] | sides[2] | sides[3]) == 0;
   const geom::CellClass c = no_crossing ? geom::CellClass{CellKind::empty, 0, 0} : geom::classify_cell(sides, 8);
-  uint16_t edge = uint16_t(epi.edge[i] & ~(bits::kCodeMask | bits::kUsable));
+  edge = uint16_t(edge & ~(bits::kCodeMask | bits::kUsable));
   int type = kTypeEmpty;
   const bool sample = edge & bits::kHasSample;
   bool usable = sample;
@@ -31,24 +32,34 @@ CellKind classify_pixel(EpiImage& epi, const BoundaryMasks& masks, int x, int y)
     type = simple_type(c.p_low / 8, c.p_high / 8, primary_is_b);
   }
   if (usable) edge |= bits::kUsable;
-  epi.edge[i] = edge;
-  epi.cache[i] = uint32_t(type) << bits::kTypeShift;
-  return c.kind;
+  return {edge, uint8_t(type), c.kind};
+}
+
+void classify_row(const BoundaryMasks& masks, int y, const uint16_t* in, uint16_t* edge, uint8_t* types,
+                  ClassCounts& counts) {
+  for (int x = 0; x < masks.width; ++x) {
+    const PixelClass c = classify_pixel(masks, x, y, in[x]);
+    edge[x] = c.edge;
+    types[x] = c.type;
+    counts.empty += c.kind == CellKind::empty;
+    counts.simple += c.kind == CellKind::simple;
+    counts.complex += c.kind == CellKind::complex;
+    counts.samples += has_sample(c.edge);
+    counts.ambiguous += has_sample(c.edge) && !usable_sample(c.edge);
+  }
 }
 
 ClassCounts classify_rows(EpiImage& epi, const BoundaryMasks& masks, int y0, int y1, uint8_t* types) {
   ClassCounts counts;
-  for (int y = y0; y < y1; ++y)
-    for (int x = 0; x < epi.width; ++x) {
-      const CellKind kind = classify_pixel(epi, masks, x, y);
-      counts.empty += kind == CellKind::empty;
-      counts.simple += kind == CellKind::simple;
-      counts.complex += kind == CellKind::complex;
-      const uint16_t e = epi.edge[epi.index(x, y)];
-      if (types) types[epi.index(x, y)] = uint8_t(pixel_type(epi.cache[epi.index(x, y)]));
-      counts.samples += has_sample(e);
-      counts.ambiguous += has_sample(e) && !usable_sample(e);
-    }
+  const int w = epi.width;
+  std::vector<uint8_t> row(types ? 0 : size_t(w));
+  for (int y = y0; y < y1; ++y) {
+    uint16_t* edge = &epi.edge[epi.index(0, y)];
+    uint8_t* t = types ? types + epi.index(0, y) : row.data();
+    classify_row(masks, y, edge, edge, t, counts);
+    uint32_t* cache = &epi.cache[epi.index(0, y)];
+    for (int x = 0; x < w; ++x) cache[x] = uint32_t(t[x]) << bits::kTypeShift;
+  }
   return counts;
 }
 

@@ -14,11 +14,21 @@ struct ClassCounts {
   int64_t empty = 0, simple = 0, complex = 0, samples = 0, ambiguous = 0;
 };
 
-// Writes the edge code and usable bit (edge plane) and the type (cache plane, reachability
-// cleared) of pixel (x, y). Returns the pixel's kind.
-CellKind classify_pixel(EpiImage& epi, const BoundaryMasks& masks, int x, int y);
+// Pixel (x, y) whose edge word is `edge`: that word with its edge code and usable bit set
+// (sample bits kept; classifying a classified word gives it back unchanged), and its type.
+struct PixelClass {
+  uint16_t edge;
+  uint8_t type;
+  CellKind kind;
+};
+PixelClass classify_pixel(const BoundaryMasks& masks, int x, int y, uint16_t edge);
 
-// Rows [y0, y1); also writes each pixel's type into `types` (width x height) when given.
+// Row y: classifies the edge words `in` into `edge` (may be `in`) and `types`; adds to `counts`.
+void classify_row(const BoundaryMasks& masks, int y, const uint16_t* in, uint16_t* edge, uint8_t* types,
+                  ClassCounts& counts);
+
+// Rows [y0, y1) in place: edge plane, cache plane (type, reachability cleared) and, when given,
+// `types` (width x height).
 ClassCounts classify_rows(EpiImage& epi, const BoundaryMasks& masks, int y0, int y1, uint8_t* types = nullptr);
 
 }  // namespace epi

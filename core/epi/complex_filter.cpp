@@ -27,7 +27,7 @@ int region_at(const SubPixel& s, geom::Vec2 p) { return s.kind == CellKind::simp
 
 }  // namespace
 
-void complex_pixel(const EpiImage& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
+void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
                    float out[3]) {
   // Classify the 6x6 sub-pixels.
   SubPixel sub[kGrid][kGrid];
@@ -84,9 +84,9 @@ void complex_pixel(const EpiImage& epi, const BoundaryMasks& masks, int x, int y
   for (int qy = y - 1; qy <= y + 1; ++qy)
     for (int qx = x - 1; qx <= x + 1; ++qx) {
       if (!epi.inside(qx, qy)) continue;
-      const size_t i = epi.index(qx, qy);
-      if (!has_sample(epi.edge[i])) continue;
-      const int r = sample_region(epi.edge[i]), rx = r & 3, ry = r >> 2;
+      const uint16_t e = epi.edge_at(qx, qy);
+      if (!has_sample(e)) continue;
+      const int r = sample_region(e), rx = r & 3, ry = r >> 2;
       const int u = 2 * (qx - x + 1) + (rx >> 1), v = 2 * (qy - y + 1) + (ry >> 1);
       const SubPixel& s = sub[v][u];
       int region = 0;
@@ -98,7 +98,7 @@ void complex_pixel(const EpiImage& epi, const BoundaryMasks& masks, int x, int y
       Placed& p = samples[count++];
       p.root = find(parent, node(u, v, region));
       p.u = u, p.v = v;
-      decode_color(epi.color[i], p.rgb);
+      decode_color(epi.color_at(qx, qy), p.rgb);
     }
 
   // Colour of one region of a centre sub-pixel.

@@ -8,12 +8,13 @@
 // their two regions by area; complex sub-pixels and regions with no sample use the estimate.
 #pragma once
 
-#include "epi/epi_pixel.h"
+#include "epi/rows.h"
 #include "epi/rasterize.h"
 
 namespace epi {
 
-void complex_pixel(const EpiImage& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
+// Reads rows y-1..y+1 of `epi` (samples) and of the masks.
+void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
                    float out[3]);
 
 }  // namespace epi

@@ -17,14 +17,14 @@ const float kInterpolationWeights[25] = {
 namespace {
 
 template <bool kInterior>
-float weighted_sum_impl(const EpiImage& epi, int x, int y, uint32_t take, uint16_t need, float rgb[3]) {
+float weighted_sum_impl(const EpiRows& rows, int x, int y, uint32_t take, uint16_t need, float rgb[3]) {
   const auto& lut = srgb8_to_linear();
-  const int dx0 = kInterior ? -2 : std::max(-2, -x), dx1 = kInterior ? 2 : std::min(2, epi.width - 1 - x);
-  const int dy0 = kInterior ? -2 : std::max(-2, -y), dy1 = kInterior ? 2 : std::min(2, epi.height - 1 - y);
+  const int dx0 = kInterior ? -2 : std::max(-2, -x), dx1 = kInterior ? 2 : std::min(2, rows.width - 1 - x);
+  const int dy0 = kInterior ? -2 : std::max(-2, -y), dy1 = kInterior ? 2 : std::min(2, rows.height - 1 - y);
   float sum[3] = {0, 0, 0}, total = 0;
   for (int dy = dy0; dy <= dy1; ++dy) {
-    const uint16_t* edge = &epi.edge[epi.index(x, y + dy)];
-    const uint32_t* color = &epi.color[epi.index(x, y + dy)];
+    const uint16_t* edge = rows.edge_row(y + dy) + x;
+    const uint32_t* color = rows.color_row(y + dy) + x;
     for (int dx = dx0; dx <= dx1; ++dx) {
       const int k = (dy + 2) * 5 + dx + 2;
       const uint32_t use = ((take >> k) & 1u) & uint32_t((edge[dx] & need) == need);
@@ -42,10 +42,10 @@ float weighted_sum_impl(const EpiImage& epi, int x, int y, uint32_t take, uint16
 // Kernel-weighted sum over the 5x5, branch-free: pixel k of the window (k = (dy+2)*5 + dx+2)
 // counts when bit k of `take` is set and its edge word has all the bits of `need`.
 // Interior pixels take a fixed-size loop; both visit the window in the same order.
-float weighted_sum(const EpiImage& epi, int x, int y, uint32_t take, uint16_t need, float rgb[3]) {
-  const bool interior = x >= 2 && y >= 2 && x + 2 < epi.width && y + 2 < epi.height;
-  return interior ? weighted_sum_impl<true>(epi, x, y, take, need, rgb)
-                  : weighted_sum_impl<false>(epi, x, y, take, need, rgb);
+float weighted_sum(const EpiRows& rows, int x, int y, uint32_t take, uint16_t need, float rgb[3]) {
+  const bool interior = x >= 2 && y >= 2 && x + 2 < rows.width && y + 2 < rows.height;
+  return interior ? weighted_sum_impl<true>(rows, x, y, take, need, rgb)
+                  : weighted_sum_impl<false>(rows, x, y, take, need, rgb);
 }
 
 // The 24-bit reach mask spread to the 25 window positions, the centre included.
@@ -53,20 +53,18 @@ uint32_t window_mask(uint32_t reach) { return (reach & 0xfffu) | (1u << 12) | ((
 
 }  // namespace
 
-float simple_estimate(const EpiImage& epi, int x, int y, float rgb[3]) {
-  return weighted_sum(epi, x, y, 0x1ffffffu, bits::kHasSample, rgb);
+float simple_estimate(const EpiRows& rows, int x, int y, float rgb[3]) {
+  return weighted_sum(rows, x, y, 0x1ffffffu, bits::kHasSample, rgb);
 }
 
-int window_average(const EpiImage& epi, int x, int y, int r, float rgb[3]) {
+int window_average(const EpiRows& rows, int x, int y, int r, float rgb[3]) {
   float sum[3] = {0, 0, 0};
   int count = 0;
   for (int py = y - r; py <= y + r; ++py)
     for (int px = x - r; px <= x + r; ++px) {
-      if (!epi.inside(px, py)) continue;
-      const size_t i = epi.index(px, py);
-      if (!has_sample(epi.edge[i])) continue;
+      if (!rows.inside(px, py) || !has_sample(rows.edge_at(px, py))) continue;
       float c[3];
-      decode_color(epi.color[i], c);
+      decode_color(rows.color_at(px, py), c);
       sum[0] += c[0], sum[1] += c[1], sum[2] += c[2];
       ++count;
     }
@@ -76,24 +74,23 @@ int window_average(const EpiImage& epi, int x, int y, int r, float rgb[3]) {
 
 namespace {
 
-bool window_holds_edges(TypePlane types, int x, int y, int r) {
+bool window_holds_edges(TypeRows types, int x, int y, int r) {
   int any = 0;
   for (int py = std::max(0, y - r); py <= std::min(types.height - 1, y + r); ++py)
     for (int px = std::max(0, x - r); px <= std::min(types.width - 1, x + r); ++px)
-      any |= types.types[size_t(py) * size_t(types.width) + size_t(px)];
+      any |= types.at(px, py);
   return any != kTypeEmpty;
 }
 
-bool reachable_fallback(const EpiImage& epi, TypePlane types, int x, int y, float rgb[3]) {
-  const uint64_t reach = reach_window7(types, x, y);
+bool reachable_fallback(const EpiRows& rows, int x, int y, float rgb[3]) {
+  const uint64_t reach = reach_window7(rows.type_rows(), x, y);
   const auto& lut = srgb8_to_linear();
   float sum[3] = {0, 0, 0}, total = 0;
-  for (int dy = std::max(-3, -y); dy <= std::min(3, epi.height - 1 - y); ++dy)
-    for (int dx = std::max(-3, -x); dx <= std::min(3, epi.width - 1 - x); ++dx) {
-      const size_t i = epi.index(x + dx, y + dy);
-      if (!((reach >> window7_bit(dx, dy)) & 1) || !usable_sample(epi.edge[i])) continue;
+  for (int dy = std::max(-3, -y); dy <= std::min(3, rows.height - 1 - y); ++dy)
+    for (int dx = std::max(-3, -x); dx <= std::min(3, rows.width - 1 - x); ++dx) {
+      if (!((reach >> window7_bit(dx, dy)) & 1) || !usable_sample(rows.edge_at(x + dx, y + dy))) continue;
       const float d = float(1 + dx * dx + dy * dy), w = 1.0f / (d * d);
-      const uint32_t c = epi.color[i];
+      const uint32_t c = rows.color_at(x + dx, y + dy);
       sum[0] += w * lut[c & 255], sum[1] += w * lut[(c >> 8) & 255], sum[2] += w * lut[(c >> 16) & 255];
       total += w;
     }
@@ -104,31 +101,29 @@ bool reachable_fallback(const EpiImage& epi, TypePlane types, int x, int y, floa
 
 }  // namespace
 
-void fallback_color(const EpiImage& epi, TypePlane types, int x, int y, float rgb[3]) {
-  if (reachable_fallback(epi, types, x, y, rgb)) return;
+void fallback_color(const EpiRows& rows, int x, int y, float rgb[3]) {
+  if (reachable_fallback(rows, x, y, rgb)) return;
   // Last resort. Only where the pixel's own 5x5 holds an edge (so it is at an edge, and its
   // colour unknown either way) may colour come from unreachable samples; an edge-free 5x5 gets black.
-  if (window_holds_edges(types, x, y, 2)) {
-    if (simple_estimate(epi, x, y, rgb) > 0) return;
-    if (window_average(epi, x, y, 3, rgb) > 0) return;
+  if (window_holds_edges(rows.type_rows(), x, y, 2)) {
+    if (simple_estimate(rows, x, y, rgb) > 0) return;
+    if (window_average(rows, x, y, 3, rgb) > 0) return;
   }
   rgb[0] = rgb[1] = rgb[2] = 0.0f;
 }
 
-float interpolate_pixel(const EpiImage& epi, TypePlane types, int x, int y, uint32_t reach, float rgb[3],
-                        bool* found) {
-  const size_t centre = epi.index(x, y);
-  const bool complex = edge_code(epi.edge[centre]) == kComplexCode;
-  const float total = complex ? simple_estimate(epi, x, y, rgb)
-                              : weighted_sum(epi, x, y, window_mask(reach), bits::kUsable, rgb);
+float interpolate_pixel(const EpiRows& rows, int x, int y, uint32_t reach, float rgb[3], bool* found) {
+  const uint16_t e = rows.edge_at(x, y);
+  const bool complex = edge_code(e) == kComplexCode;
+  const float total = complex ? simple_estimate(rows, x, y, rgb)
+                              : weighted_sum(rows, x, y, window_mask(reach), bits::kUsable, rgb);
   if (found) *found = total > 0;
   if (total == 0) {
-    fallback_color(epi, types, x, y, rgb);
+    fallback_color(rows, x, y, rgb);
     return kMaxPriority;
   }
   // A pixel whose own sample is edge-ambiguous is treated as unsampled: weight priority.
-  const uint16_t e = epi.edge[centre];
-  return usable_sample(e) ? age_priority(sample_age(epi.color[centre])) : weight_priority(total);
+  return usable_sample(e) ? age_priority(sample_age(rows.color_at(x, y))) : weight_priority(total);
 }
 
 }  // namespace epi

@@ -11,6 +11,7 @@
 
 #include "epi/epi_pixel.h"
 #include "epi/reachability.h"
+#include "epi/rows.h"
 
 namespace epi {
 
@@ -27,21 +28,20 @@ inline float weight_priority(float total_weight) {
 extern const float kInterpolationWeights[25];
 
 // The primary colour of pixel (x, y) into rgb; returns its priority. *found tells whether the
-// colour came from reachable samples (complex pixels: from any sample of the 5x5). `types` is
-// the whole image's pixel types (the fallback reads them up to 3 pixels away).
-float interpolate_pixel(const EpiImage& epi, TypePlane types, int x, int y, uint32_t reach, float rgb[3],
-                        bool* found = nullptr);
+// colour came from reachable samples (complex pixels: from any sample of the 5x5). Reads rows
+// y-2..y+2 of `rows`, y-3..y+3 in the fallback.
+float interpolate_pixel(const EpiRows& rows, int x, int y, uint32_t reach, float rgb[3], bool* found = nullptr);
 
 // The colour of a pixel that reaches no sample in its 5x5: the kernel-weighted mean of the
 // usable samples it reaches in its 7x7 (reach_window7); failing that, where its own 5x5
 // holds an edge (a non-empty type), the simple estimate, then the uniform 7x7 average;
 // otherwise black. Colour never crosses an edge into a pixel whose 5x5 is edge-free.
-void fallback_color(const EpiImage& epi, TypePlane types, int x, int y, float rgb[3]);
+void fallback_color(const EpiRows& rows, int x, int y, float rgb[3]);
 
 
 // The paper's simple estimate: every sample of the 5x5, same kernel. Returns the total weight.
-float simple_estimate(const EpiImage& epi, int x, int y, float rgb[3]);
+float simple_estimate(const EpiRows& rows, int x, int y, float rgb[3]);
 // Uniform average of the samples in the (2r+1)^2 window. Returns the sample count.
-int window_average(const EpiImage& epi, int x, int y, int r, float rgb[3]);
+int window_average(const EpiRows& rows, int x, int y, int r, float rgb[3]);
 
 }  // namespace epi

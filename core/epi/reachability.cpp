@@ -91,16 +91,14 @@ uint32_t reach_full(const EpiImage& epi, int x, int y) {
   return reach<false>([&](int px, int py) { return pixel_type(epi.cache[epi.index(px, py)]); }, epi.width,
                       epi.height, x, y);
 }
-uint32_t reach_full(TypePlane p, int x, int y) {
-  return reach<false>([p](int px, int py) { return int(p.types[size_t(py) * size_t(p.width) + size_t(px)]); }, p.width,
-                      p.height, x, y);
+uint32_t reach_full(TypeRows p, int x, int y) {
+  return reach<false>([p](int px, int py) { return p.at(px, py); }, p.width, p.height, x, y);
 }
-uint32_t reach_forward(TypePlane p, int x, int y) {
-  return reach<true>([p](int px, int py) { return int(p.types[size_t(py) * size_t(p.width) + size_t(px)]); }, p.width,
-                     p.height, x, y);
+uint32_t reach_forward(TypeRows p, int x, int y) {
+  return reach<true>([p](int px, int py) { return p.at(px, py); }, p.width, p.height, x, y);
 }
 
-uint64_t reach_window7(TypePlane p, int x, int y) {
+uint64_t reach_window7(TypeRows p, int x, int y) {
   const EpiTables& t = epi_tables();
   uint8_t types[49];
   int any = 0;
@@ -108,7 +106,7 @@ uint64_t reach_window7(TypePlane p, int x, int y) {
     for (int dx = -3; dx <= 3; ++dx) {
       const int px = x + dx, py = y + dy;
       const bool inside = px >= 0 && py >= 0 && px < p.width && py < p.height;
-      const int type = inside ? int(p.types[size_t(py) * size_t(p.width) + size_t(px)]) : kTypeComplex;
+      const int type = inside ? p.at(px, py) : kTypeComplex;
       types[(dy + 3) * 7 + dx + 3] = uint8_t(type);
       any |= type;
     }
@@ -142,16 +140,17 @@ uint32_t reach_from_symmetry(const uint32_t* above1, const uint32_t* above2, int
   return result;
 }
 
-void reach_row(TypePlane p, int y, const uint32_t* above1, const uint32_t* above2, uint32_t* out,
+void reach_row(TypeRows p, int y, const uint32_t* above1, const uint32_t* above2, uint32_t* out,
                uint8_t* scratch) {
   const int w = p.width;
   // scratch[x + 2]: column x has a non-empty pixel (or one outside the image) in rows y-2..y+2.
   const bool rows_inside = y >= 2 && y + 2 < p.height;
   scratch[0] = scratch[1] = scratch[w + 2] = scratch[w + 3] = 1;
-  for (int x = 0; x < w; ++x) {
-    uint32_t any = rows_inside ? 0u : 1u;
-    for (int dy = -2; dy <= 2 && rows_inside; ++dy) any |= p.types[size_t(y + dy) * size_t(w) + size_t(x)];
-    scratch[x + 2] = uint8_t(any != 0);
+  if (rows_inside) {
+    const uint8_t* rows[5] = {p.row(y - 2), p.row(y - 1), p.row(y), p.row(y + 1), p.row(y + 2)};
+    for (int x = 0; x < w; ++x) scratch[x + 2] = uint8_t((rows[0][x] | rows[1][x] | rows[2][x] | rows[3][x] | rows[4][x]) != 0);
+  } else {
+    for (int x = 0; x < w; ++x) scratch[x + 2] = 1;
   }
   int window = scratch[0] + scratch[1] + scratch[2] + scratch[3];  // columns x-2..x+1 for x = 0
   for (int x = 0; x < w; ++x) {

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "epi/epi_pixel.h"
+#include "epi/rows.h"
 
 namespace epi {
 
@@ -27,26 +28,19 @@ constexpr uint32_t kForwardBits = [] {
   return m;
 }();
 
-// Pixel types, one byte per pixel (row-major, width x height), as classification wrote them
-// into the cache plane: a read-only copy, so that parallel bands can write reachability into
-// the cache plane while others read types.
-struct TypePlane {
-  const uint8_t* types;
-  int width, height;
-};
-
-// All 24 offsets, computed directly (the oracle). The EpiImage form reads the cache plane.
+// All 24 offsets, computed directly (the oracle). The EpiImage form reads the cache plane, the
+// TypeRows forms rows y-2..y+2 (y-3..y+3 for reach_window7) of a type view (rows.h).
 uint32_t reach_full(const EpiImage& epi, int x, int y);
-uint32_t reach_full(TypePlane types, int x, int y);
+uint32_t reach_full(TypeRows types, int x, int y);
 // The forward half and the two offsets to the left, (-1,0) and (-2,0); the rest of the mask
 // comes from symmetry (see reach_from_symmetry).
-uint32_t reach_forward(TypePlane types, int x, int y);
+uint32_t reach_forward(TypeRows types, int x, int y);
 // Reachability over the 7x7 window by the same monotone paths (offsets up to 3 in x and y),
 // for the fallback of pixels that reach no sample in their 5x5: bit (dy + 3) * 7 + (dx + 3),
 // the centre (bit 24) included. Its inner 5x5 equals reach_full.
 constexpr uint64_t kWindow7All = (uint64_t(1) << 49) - 1;
 constexpr int window7_bit(int dx, int dy) { return (dy + 3) * 7 + (dx + 3); }
-uint64_t reach_window7(TypePlane types, int x, int y);
+uint64_t reach_window7(TypeRows types, int x, int y);
 // Bits for offsets (dx, dy < 0) taken from the masks of the two rows above: bit (dx, dy) of
 // pixel p equals bit (-dx, -dy) of pixel p + (dx, dy). `above1`/`above2` are those rows' masks
 // (nullptr outside the image).
@@ -56,7 +50,7 @@ uint32_t reach_from_symmetry(const uint32_t* above1, const uint32_t* above2, int
 // directly (found with a sliding window over the row), the others reach_full (when above1 is
 // nullptr) or reach_forward + symmetry. Equal to reach_full pixel by pixel.
 // `scratch` needs width + 4 bytes.
-void reach_row(TypePlane types, int y, const uint32_t* above1, const uint32_t* above2, uint32_t* out,
+void reach_row(TypeRows types, int y, const uint32_t* above1, const uint32_t* above2, uint32_t* out,
                uint8_t* scratch);
 
 }  // namespace epi

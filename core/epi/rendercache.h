@@ -3,11 +3,11 @@
 // Kernel 3x3: 1 centre, 1/2 sides, 1/4 diagonals, renormalized.
 #pragma once
 
-#include "epi/epi_pixel.h"
+#include "epi/rows.h"
 
 namespace epi {
 
 // Colour of pixel (x, y) into rgb; returns its priority (same scale as interpolate.h).
-float rendercache_pixel(const EpiImage& epi, int x, int y, float rgb[3]);
+float rendercache_pixel(const EpiRows& rows, int x, int y, float rgb[3]);
 
 }  // namespace epi

@@ -64,7 +64,8 @@ void StagedReconstructor::run(EpiImage& epi, const BoundaryMasks& masks, const R
   // windows of empty pixels take the fast path, the rest the full 24-offset computation).
   t = Clock::now();
   types_.resize(pixels);
-  const TypePlane plane{types_.data(), w, h};  // filled below (epi only); interpolation's fallback reads it
+  const TypeRows plane{types_.data(), w, h};  // filled below (epi only); interpolation's fallback reads it
+  const EpiRows rows = whole_image_rows(epi, types_.data());
   if (epi_filter) {
     for_rows(h, [&](int y) {
       for (size_t i = epi.index(0, y); i < epi.index(0, y) + size_t(w); ++i) types_[i] = uint8_t(pixel_type(epi.cache[i]));
@@ -86,8 +87,8 @@ void StagedReconstructor::run(EpiImage& epi, const BoundaryMasks& masks, const R
     for (int x = 0; x < w; ++x) {
       const size_t i = epi.index(x, y);
       bool found = true;
-      out.priority[i] = epi_filter ? interpolate_pixel(epi, plane, x, y, reach_[i], interpolated_.at(x, y), &found)
-                                   : rendercache_pixel(epi, x, y, interpolated_.at(x, y));
+      out.priority[i] = epi_filter ? interpolate_pixel(rows, x, y, reach_[i], interpolated_.at(x, y), &found)
+                                   : rendercache_pixel(rows, x, y, interpolated_.at(x, y));
       found_[i] = found;
     }
   });
@@ -111,15 +112,15 @@ void StagedReconstructor::run(EpiImage& epi, const BoundaryMasks& masks, const R
   // Anti-aliasing of simple pixels (and the pass-through of the others).
   t = Clock::now();
   for_rows(h, [&](int y) {
-    const float* rows[3] = {y > 0 ? primary->at(0, y - 1) : nullptr, primary->at(0, y),
-                            y + 1 < h ? primary->at(0, y + 1) : nullptr};
+    const float* primary_rows[3] = {y > 0 ? primary->at(0, y - 1) : nullptr, primary->at(0, y),
+                                    y + 1 < h ? primary->at(0, y + 1) : nullptr};
     for (int x = 0; x < w; ++x) {
       const int type = pixel_type(epi.cache[epi.index(x, y)]);
       float* o = out.image.at(x, y);
       if (epi_filter && s.antialias && type_is_simple(type)) {
-        antialias_pixel(epi, x, y, rows, o);
+        antialias_pixel(rows, x, y, primary_rows, o);
       } else {
-        const float* own = rows[1] + 3 * x;
+        const float* own = primary_rows[1] + 3 * x;
         o[0] = own[0], o[1] = own[1], o[2] = own[2];
       }
     }
@@ -132,7 +133,7 @@ void StagedReconstructor::run(EpiImage& epi, const BoundaryMasks& masks, const R
     for_rows(h, [&](int y) {
       for (int x = 0; x < w; ++x)
         if (pixel_type(epi.cache[epi.index(x, y)]) == kTypeComplex)
-          complex_pixel(epi, masks, x, y, primary->at(x, y), out.image.at(x, y));
+          complex_pixel(rows, masks, x, y, primary->at(x, y), out.image.at(x, y));
     });
   }
   times.complex = ms_since(t);

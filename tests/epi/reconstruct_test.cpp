@@ -147,7 +147,7 @@ TEST(Reachability, Window7MatchesBruteForcePathEnumeration) {
     test::Built b = test::build(test::random_pattern(30, 22, 16, seed), 0.5, seed);
     classify_rows(b.epi, b.masks, 0, 22);
     const std::vector<uint8_t> types = types_of(b.epi);
-    const TypePlane plane{types.data(), 30, 22};
+    const TypeRows plane{types.data(), 30, 22};
     for (int y = 0; y < 22; ++y)
       for (int x = 0; x < 30; ++x) {
         const uint64_t got = reach_window7(plane, x, y);
