@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cstring>
+#include <random>
 
 #include "epi/interpolate.h"
 #include "epi/reachability.h"
@@ -209,6 +210,41 @@ void expect_tiled_equals_oracle(const Pattern& pattern, const Case& c, uint64_t 
     ASSERT_EQ(oracle_epi.cache, epi.cache);
     ASSERT_EQ(oracle.counts.simple, tiled.counts.simple);
     ASSERT_EQ(oracle.counts.complex, tiled.counts.complex);
+  }
+}
+
+// Random patterns, sizes, settings, band sizes and thread counts: planes, image, priority and
+// every count equal, bit for bit.
+TEST(Tiled, PropertyRandomPatternsBandsAndThreads) {
+  std::mt19937_64 rng(2024);
+  auto pick = [&](int lo, int hi) { return std::uniform_int_distribution<int>(lo, hi)(rng); };
+  for (int trial = 0; trial < 60; ++trial) {
+    const int w = pick(1, 70), h = pick(1, 70);
+    const uint64_t seed = rng();
+    const Pattern pattern = test::random_pattern(w, h, pick(1, 30), seed);
+    const bool rendercache = pick(0, 4) == 0;
+    const ReconstructSettings settings{rendercache ? Filter::rendercache : Filter::epi, pick(0, 1) == 1,
+                                       pick(0, 1) == 1, pick(0, 1) == 1};
+    test::Built b = test::build(pattern, pick(0, 100) / 100.0, seed, pick(0, 3) != 0);
+    EpiImage oracle_epi = b.epi;
+    const Reconstruction oracle = reconstruct_oracle(oracle_epi, b.masks, settings);
+    for (int k = 0; k < 3; ++k) {
+      const Schedule schedule{pick(0, 3) == 0 ? pick(1, 1000) : pick(1, 12), pick(1, 3)};
+      EpiImage epi = b.epi;
+      const Reconstruction tiled = reconstruct_tiled(epi, b.masks, settings, schedule);
+      SCOPED_TRACE(testing::Message() << "trial " << trial << " " << w << "x" << h << " rows " << schedule.rows_per_band
+                                      << " threads " << schedule.threads);
+      ASSERT_TRUE(same_bits(oracle.image.pixels, tiled.image.pixels));
+      ASSERT_TRUE(same_bits(oracle.priority, tiled.priority));
+      ASSERT_EQ(oracle_epi.edge, epi.edge);
+      ASSERT_EQ(oracle_epi.cache, epi.cache);
+      ASSERT_EQ(oracle_epi.color, epi.color);
+      ASSERT_EQ(oracle.counts.empty, tiled.counts.empty);
+      ASSERT_EQ(oracle.counts.simple, tiled.counts.simple);
+      ASSERT_EQ(oracle.counts.complex, tiled.counts.complex);
+      ASSERT_EQ(oracle.counts.samples, tiled.counts.samples);
+      ASSERT_EQ(oracle.counts.ambiguous, tiled.counts.ambiguous);
+    }
   }
 }
 
