@@ -1,6 +1,7 @@
 #include "render/point_cache.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
@@ -15,6 +16,7 @@ namespace epi::render {
 
 namespace {
 
+constexpr size_t kAgeBins = 258;  // ages 0..255 (capped), then off screen
 constexpr uint64_t kEmptyKey = ~uint64_t(0);
 constexpr uint32_t kIndexMask = 0x0fffffffu;  // point index; bits 28-31 hold the sub-pixel region
 
@@ -79,6 +81,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   // Aging and projection with a z-buffer (points in parallel; the minimum key wins).
   struct Counts {
     size_t projected = 0, expired = 0;
+    std::array<uint32_t, kAgeBins> ages{};  // eviction order: age, off-screen points in the top bin
   };
   const Counts counts = tbb::parallel_reduce(
       tbb::blocked_range<size_t>(0, points_.size(), 4096), Counts{},
@@ -99,6 +102,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
             ++c.expired;
             continue;
           }
+          ++c.ages[inside ? std::min<size_t>(p.age, kAgeBins - 2) : kAgeBins - 1];
           if (!inside) continue;
           const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
           const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
@@ -112,6 +116,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       },
       [](Counts a, const Counts& b) {
         a.projected += b.projected, a.expired += b.expired;
+        for (size_t k = 0; k < kAgeBins; ++k) a.ages[k] += b.ages[k];
         return a;
       });
 
@@ -173,6 +178,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     for (size_t i = points_.size(); i-- > 0;)
       if (!points_[i].valid) free_slots_.push_back(uint32_t(i));
   }
+  age_histogram_.assign(counts.ages.begin(), counts.ages.end());
   last_frame_.emplace(frame);
   last_transforms_.assign(object_to_world.begin(), object_to_world.end());
   return {counts.projected, cull_counts.first, cull_counts.second, counts.expired};
@@ -184,15 +190,91 @@ size_t PointCache::take_slot() {
     free_slots_.pop_back();
     if (!points_[slot].valid) return slot;
   }
+  // Clock sweep from the round-robin cursor: the first slot that is free, off screen, or at least
+  // evict_age_ old. Points inserted since the last projection (age 0) are never taken. After a
+  // full turn without one (replacements made the old points fresh) any point not inserted this
+  // frame will do, after a second turn the cursor's slot.
+  const size_t n = points_.size();
+  for (size_t scanned = 0; scanned < 2 * n; ++scanned) {
+    const size_t slot = cursor_;
+    cursor_ = cursor_ + 1 == n ? 0 : cursor_ + 1;
+    const CachePoint& p = points_[slot];
+    if (!p.valid) return slot;
+    if (p.age == 0) continue;
+    if (p.image_id < 0 || p.age >= (scanned < n ? evict_age_ : 1)) return slot;
+  }
   const size_t slot = cursor_;
-  cursor_ = (cursor_ + 1) % points_.size();
+  cursor_ = cursor_ + 1 == n ? 0 : cursor_ + 1;
   return slot;
+}
+
+void PointCache::choose_evict_age(size_t needed) {
+  // The largest age such that at least `needed` points are that old or older (off-screen points
+  // count as oldest), from the histogram of the last projection.
+  size_t count = 0;
+  evict_age_ = 1;
+  for (int a = int(age_histogram_.size()) - 1; a >= 1; --a) {
+    count += age_histogram_[size_t(a)];
+    if (count >= needed) {
+      evict_age_ = a;
+      break;
+    }
+  }
+}
+
+int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, const glm::vec3& last_world,
+                                std::span<const glm::mat4> object_to_world) const {
+  // Candidates: the z-buffer winners of the last projection near where the shot's ray runs in it,
+  // from the hit (3x3 around it) along the ray's image towards its vanishing point (parallax when
+  // the eye moved), at most kMaxWalk pixels.
+  constexpr float kRadius = 0.35f;   // the ray's evidence covers this far around it, pixels
+  constexpr float kMargin = 0.05f;    // relative depth behind the hit
+  constexpr float kMaxWalk = 8.0f;
+  const int w = image_.width, h = image_.height;
+  const Projection hit_shot = shot.project(r.position);
+  const glm::vec2 sample(r.x, r.y);
+  auto hidden = [&](int32_t q) {
+    if (q < 0) return false;
+    const CachePoint& p = points_[size_t(q)];
+    if (!p.valid || p.age == 0) return false;
+    const Projection pq = shot.project(world_position(p, shot, object_to_world));
+    return pq.depth > hit_shot.depth * (1.0f + kMargin) && glm::distance(pq.pixel, sample) <= kRadius;
+  };
+  auto check = [&](int x, int y) -> int32_t {
+    if (x < 0 || y < 0 || x >= w || y >= h) return -1;
+    const int32_t q = winners_[image_.index(x, y)];
+    return hidden(q) ? q : -1;
+  };
+  const Projection p0 = last_frame_->project(last_world);
+  if (!p0.in_front()) return -1;
+  const int x0 = int(std::floor(p0.pixel.x)), y0 = int(std::floor(p0.pixel.y));
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (const int32_t q = check(x0 + dx, y0 + dy); q >= 0) return q;
+  const glm::vec3 dir = shot.ray(r.x, r.y).direction;
+  const Projection p1 = last_frame_->project(last_frame_->eye() + dir * background_depth_);
+  if (!p1.in_front()) return -1;
+  glm::vec2 d = p1.pixel - p0.pixel;
+  const float length = std::min(glm::length(d), kMaxWalk);
+  if (length < 1.0f) return -1;
+  d = glm::normalize(d);
+  int last_x = x0, last_y = y0;
+  for (float t = 0.5f; t <= length; t += 0.5f) {
+    const glm::vec2 c = p0.pixel + d * t;
+    const int x = int(std::floor(c.x)), y = int(std::floor(c.y));
+    if (x == last_x && y == last_y) continue;
+    last_x = x, last_y = y;
+    if (std::abs(x - x0) <= 1 && std::abs(y - y0) <= 1) continue;
+    if (const int32_t q = check(x, y); q >= 0) return q;
+  }
+  return -1;
 }
 
 size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::span<const glm::mat4> object_to_world) {
   std::vector<glm::mat4> to_object(object_to_world.size());
   std::vector<uint8_t> inverted(object_to_world.size(), 0);
   const int w = image_.width, h = image_.height;
+  if (free_slots_.size() < batch.results.size()) choose_evict_age(batch.results.size() - free_slots_.size());
   size_t inserted = 0;
   for (const ShadeResult& r : batch.results) {
     CachePoint point;
@@ -231,6 +313,26 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
                 const int32_t q = image_.point[image_.index(qx, qy)];
                 if (q >= 0) points_[size_t(q)].age = uint16_t(std::min(points_[size_t(q)].age + settings_.change_penalty, 0xffff));
               }
+          }
+        }
+      }
+      // The ray is evidence that what lies behind its hit along it is hidden from the shot's eye:
+      // a point of the last projection there (within kRadius of the ray, farther by a margin)
+      // gives its slot to this result (or is freed when the result already has one).
+      if (r.hit && point.object != kNone) {
+        const int32_t hidden = find_hidden(shot, r, world, object_to_world);
+        if (hidden >= 0) {
+          CachePoint& q = points_[size_t(hidden)];
+          if (q.image_id >= 0 && winners_[size_t(q.image_id)] == hidden) {
+            winners_[size_t(q.image_id)] = -1;
+            image_.point[size_t(q.image_id)] = -1;
+          }
+          ++hidden_removed_;
+          if (replace < 0) {
+            replace = hidden;
+          } else {
+            q.valid = false, q.image_id = -1;
+            free_slots_.push_back(uint32_t(hidden));
           }
         }
       }

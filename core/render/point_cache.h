@@ -82,16 +82,23 @@ class PointCache {
   const std::vector<CachePoint>& points() const { return points_; }
   size_t capacity() const { return points_.size(); }
   size_t valid_points() const;
+  size_t hidden_removed() const { return hidden_removed_; }  // points whose slot a ray showed hidden
   const PointCacheSettings& settings() const { return settings_; }
   float background_depth() const { return background_depth_; }
 
  private:
   size_t take_slot();
+  void choose_evict_age(size_t needed);
+  int32_t find_hidden(const ViewFrame& shot, const ShadeResult& r, const glm::vec3& last_world,
+                      std::span<const glm::mat4> object_to_world) const;
 
   PointCacheSettings settings_;
   std::vector<CachePoint> points_;
   std::vector<uint32_t> free_slots_;
   size_t cursor_ = 0;
+  int evict_age_ = 1;                   // take_slot's sweep takes points at least this old
+  std::vector<uint32_t> age_histogram_;  // of the last projection (off-screen points last)
+  size_t hidden_removed_ = 0;
   PointImage image_;
   std::vector<uint64_t> zbuffer_;  // (depth bits << 32) | point index, min wins
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull

@@ -255,6 +255,60 @@ TEST(PointCache, NewResultsOverwriteOldPointsAndChangedShadingAgesTheNeighbourho
   EXPECT_EQ(age_at(23, 20), 3);
 }
 
+// With the cloud full, new results overwrite the oldest points, not the next slots in round-robin
+// order: slots 0..255 are refreshed in place (same surface), 256..294 stay old, the cursor is at 0.
+TEST(PointCache, AFullCloudEvictsItsOldestPointsNeverThoseOfThisFrame) {
+  const int w = 16, h = 16;
+  const ViewFrame frame(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  PointCache cache(w, h);
+  const size_t capacity = cache.capacity();
+  ASSERT_EQ(capacity, 295u);
+  cache.insert(frame, full_plane(frame, 0.0f), kIdentity);  // slots 0..255, drawn (region 10 < 15)
+  ShadeBatch extra;
+  for (size_t k = 0; k < capacity - size_t(w * h); ++k)
+    extra.results.push_back(plane_hit(frame, float(k % w) + 0.9f, float(k / w) + 0.9f, 0.0f, 0, glm::vec3(0.5f)));
+  cache.insert(frame, extra, kIdentity);  // slots 256..294, behind in the z-buffer order
+  ASSERT_EQ(cache.valid_points(), capacity);
+  for (int f = 0; f < 20; ++f) cache.project(frame, kIdentity);
+  cache.insert(frame, full_plane(frame, 0.0f), kIdentity);  // refreshes the drawn points in place
+  cache.project(frame, kIdentity);
+  ASSERT_EQ(cache.valid_points(), capacity);
+
+  auto ages = [&] {
+    std::vector<int> a;
+    for (const CachePoint& p : cache.points()) a.push_back(p.age);
+    return a;
+  };
+  const std::vector<int> before = ages();
+  ShadeBatch other;  // another object, behind: replaces nothing
+  for (size_t k = 0; k < 30; ++k)
+    other.results.push_back(plane_hit(frame, float(k % w) + 0.5f, float(k / w) + 0.5f, -1.0f, 1, glm::vec3(0.2f)));
+  cache.insert(frame, other, kIdentity);
+  std::vector<size_t> evicted;
+  for (size_t i = 0; i < capacity; ++i)
+    if (cache.points()[i].object == 1) evicted.push_back(i);
+  ASSERT_EQ(evicted.size(), other.results.size());
+  int youngest_evicted = 1 << 30, oldest_left = 0;
+  double evicted_mean = 0.0, cloud_mean = 0.0;
+  for (size_t i = 0; i < capacity; ++i) {
+    cloud_mean += before[i] / double(capacity);
+    if (cache.points()[i].object == 1) youngest_evicted = std::min(youngest_evicted, before[i]), evicted_mean += before[i];
+    else oldest_left = std::max(oldest_left, before[i]);
+  }
+  evicted_mean /= double(evicted.size());
+  EXPECT_GE(youngest_evicted, oldest_left);
+  EXPECT_GE(evicted_mean, cloud_mean);
+
+  // A second batch in the same frame takes old points too, never the first batch's (not yet projected).
+  ShadeBatch more;
+  for (size_t k = 0; k < 9; ++k)
+    more.results.push_back(plane_hit(frame, float(k) + 0.5f, 8.5f, -2.0f, 2, glm::vec3(0.1f)));
+  cache.insert(frame, more, kIdentity);
+  size_t first_batch_left = 0;
+  for (size_t i : evicted) first_batch_left += cache.points()[i].object == 1;
+  EXPECT_EQ(first_batch_left, evicted.size());
+}
+
 TEST(PointCache, BackgroundPointsStayAtTheirDirectionWhenTheCameraTranslates) {
   const int w = 32, h = 32;
   const ViewFrame frame(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
