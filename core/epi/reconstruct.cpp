@@ -143,9 +143,9 @@ void reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const Reconstr
   if (w == 0 || h == 0) return;
   const int band_rows = std::max(1, schedule.rows_per_band);
   const int bands = (h + band_rows - 1) / band_rows;
-  // Bands run in `phases` rounds, band b in round b % phases: bands of one round lie at least
+  // Bands run in rounds, band b in round b % rounds: bands of one round lie at least
   // kHalo rows apart, so none reads an edge word (its halo's input) that another writes back.
-  const int phases = 1 + (kHalo + band_rows - 1) / band_rows;
+  const int rounds = 1 + (kHalo + band_rows - 1) / band_rows;
   std::vector<ClassCounts> band_counts(static_cast<size_t>(bands));
   tbb::task_arena arena(schedule.threads > 0 ? schedule.threads : tbb::task_arena::automatic);
   tbb::enumerable_thread_specific<Rings> thread_rings([w] { return Rings(w); });
@@ -215,11 +215,11 @@ void reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const Reconstr
     }
   };
   arena.execute([&] {
-    for (int phase = 0; phase < phases; ++phase) {
-      const int count = (bands - phase + phases - 1) / phases;
+    for (int round = 0; round < rounds; ++round) {
+      const int count = (bands - round + rounds - 1) / rounds;
       tbb::parallel_for(tbb::blocked_range<int>(0, count, 1), [&](const tbb::blocked_range<int>& range) {
         Rings& ring = thread_rings.local();
-        for (int k = range.begin(); k != range.end(); ++k) run_band(phase + k * phases, ring);
+        for (int k = range.begin(); k != range.end(); ++k) run_band(round + k * rounds, ring);
       }, tbb::simple_partitioner());
     }
   });
