@@ -149,12 +149,10 @@ int run_render_frames(const RenderOptions& options) {
     ProgressBar bar("frames", options.quiet);
     for (int f = 0; f < options.frames; ++f) {
       const Camera camera = path.camera_at(f);
-      if (path.moves_objects()) {
-        const std::vector<glm::mat4> transforms = path.object_transforms_at(scene, f);
-        image = &renderer.render(camera, transforms);
-      } else {
-        image = &renderer.render(camera);
-      }
+      const std::vector<glm::mat4> transforms =
+          path.moves_objects() ? path.object_transforms_at(scene, f) : std::vector<glm::mat4>{};
+      const std::vector<glm::vec3> lights = path.moves_lights() ? path.light_positions_at(scene, f) : std::vector<glm::vec3>{};
+      image = &renderer.render(camera, transforms, lights);
       const render::FrameStats& s = renderer.stats();
       series.find_edges.push_back(s.ms.find_edges), series.rasterize_edges.push_back(s.ms.rasterize_edges);
       series.points.push_back(s.ms.points), series.classify.push_back(s.ms.classify);

@@ -55,6 +55,19 @@ std::vector<glm::mat4> CameraPath::object_transforms_at(const Scene& scene, doub
   return out;
 }
 
+std::vector<glm::vec3> CameraPath::light_positions_at(const Scene& scene, double frame) const {
+  std::vector<glm::vec3> out;
+  for (const PunctualLight& l : scene.punctual_lights) out.push_back(l.position);
+  for (size_t first = 0; first < lights.size();) {
+    size_t last = first;
+    while (last < lights.size() && lights[last].light == lights[first].light) ++last;
+    const auto [k, t] = locate(lights, first, last, frame);
+    out[lights[first].light] += t > 0.0f ? glm::mix(lights[k].translate, lights[k + 1].translate, t) : lights[k].translate;
+    first = last;
+  }
+  return out;
+}
+
 CameraPath parse_camera_path(std::string_view text, const std::string& source, const Scene& scene) {
   const Camera base = scene.cameras.empty() ? Camera{} : scene.cameras.front();
   CameraPath path;
@@ -105,14 +118,28 @@ CameraPath parse_camera_path(std::string_view text, const std::string& source, c
       if (!(in >> field) || field != "translate") fail("an object key needs 'translate X Y Z'");
       path.objects.push_back({frame, uint32_t(it - scene.objects.begin()), read_vec3(field)});
       if (in >> field) fail("unexpected '" + field + "' after the translation");
+    } else if (kind == "light") {
+      std::string name, field;
+      if (!(in >> name)) fail("a light key needs the light's name");
+      const auto it = std::find_if(scene.punctual_lights.begin(), scene.punctual_lights.end(),
+                                   [&](const PunctualLight& l) { return l.name == name; });
+      if (it == scene.punctual_lights.end()) fail("no point or spot light named '" + name + "' in the scene");
+      if (it->type == LightType::directional)
+        fail("light '" + name + "' is directional: it has a direction but no position, so it cannot be translated");
+      if (!(in >> field) || field != "translate") fail("a light key needs 'translate X Y Z'");
+      path.lights.push_back({frame, uint32_t(it - scene.punctual_lights.begin()), read_vec3(field)});
+      if (in >> field) fail("unexpected '" + field + "' after the translation");
     } else {
-      fail("unknown key '" + kind + "' (camera, object)");
+      fail("unknown key '" + kind + "' (camera, object, light)");
     }
   }
   if (path.cameras.empty()) path.cameras.push_back({0, base});
   std::stable_sort(path.cameras.begin(), path.cameras.end(), [](const CameraKey& a, const CameraKey& b) { return a.frame < b.frame; });
   std::stable_sort(path.objects.begin(), path.objects.end(), [](const ObjectKey& a, const ObjectKey& b) {
     return a.object != b.object ? a.object < b.object : a.frame < b.frame;
+  });
+  std::stable_sort(path.lights.begin(), path.lights.end(), [](const LightKey& a, const LightKey& b) {
+    return a.light != b.light ? a.light < b.light : a.frame < b.frame;
   });
   return path;
 }

@@ -1,4 +1,5 @@
-// Camera paths for the frame loop: keys per frame for the camera and for object offsets, read
+// Camera paths for the frame loop: keys per frame for the camera and for object and punctual
+// light offsets, read
 // from a small text file (format: docs/camera-path.md) or taken from the scene's own path.
 #pragma once
 
@@ -24,15 +25,26 @@ struct ObjectKey {
   glm::vec3 translate{0.0f};  // world-space offset added to the object's scene placement
 };
 
+struct LightKey {
+  double frame = 0;
+  uint32_t light = 0;         // index into Scene::punctual_lights (a point or spot light)
+  glm::vec3 translate{0.0f};  // world-space offset added to the light's scene position
+};
+
 struct CameraPath {
   std::vector<CameraKey> cameras;  // sorted by frame
   std::vector<ObjectKey> objects;  // sorted by object, then frame
+  std::vector<LightKey> lights;    // sorted by light, then frame
 
   // The camera at a frame: linear between keys, held before the first and after the last.
   Camera camera_at(double frame) const;
   // Every object's transform at a frame: the scene's, translated by its keys (linear, held).
   std::vector<glm::mat4> object_transforms_at(const Scene& scene, double frame) const;
   bool moves_objects() const { return !objects.empty(); }
+  // Every punctual light's position at a frame: the scene's, translated by its keys (linear,
+  // held); directional lights keep theirs (unused).
+  std::vector<glm::vec3> light_positions_at(const Scene& scene, double frame) const;
+  bool moves_lights() const { return !lights.empty(); }
 };
 
 // Parses the text of a path file; errors are std::runtime_error("<source>:<line>: <problem>").

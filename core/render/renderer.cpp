@@ -43,7 +43,8 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
     throw std::invalid_argument("sample budget " + std::to_string(settings.sample_budget) + " is not in (0, 1]");
   transforms_.reserve(scene.objects.size());
   for (uint32_t o = 0; o < scene.objects.size(); ++o) transforms_.push_back(ray_scene.object_to_world(o));
-  placement_ = std::make_shared<const std::vector<glm::mat4>>(transforms_);
+  for (const PunctualLight& l : ray_scene.punctual_lights()) light_positions_.push_back(l.position);
+  placement_ = std::make_shared<const PlacementState>(PlacementState{transforms_, light_positions_});
   if (settings.mode == RenderMode::epi && (settings.view_edges || settings.shadow_edges)) {
     finder_ = std::make_unique<edges::SceneEdgeFinder>(scene);
     edge_scene_.source = scene.source;
@@ -63,29 +64,38 @@ size_t FrameRenderer::budget() const {
   return size_t(std::max(1.0, std::round(settings_.sample_budget * pixels)));
 }
 
-void FrameRenderer::apply_transforms(std::span<const glm::mat4> object_to_world) {
-  if (object_to_world.empty()) return;
-  if (object_to_world.size() != transforms_.size())
+void FrameRenderer::apply_placement(std::span<const glm::mat4> object_to_world, std::span<const glm::vec3> light_positions) {
+  if (!object_to_world.empty() && object_to_world.size() != transforms_.size())
     throw std::invalid_argument("frame renderer: " + std::to_string(object_to_world.size()) + " object transforms for " +
                                 std::to_string(transforms_.size()) + " objects");
+  if (!light_positions.empty() && light_positions.size() != light_positions_.size())
+    throw std::invalid_argument("frame renderer: " + std::to_string(light_positions.size()) + " light positions for " +
+                                std::to_string(light_positions_.size()) + " punctual lights");
   std::vector<std::pair<uint32_t, glm::mat4>> moves;
-  for (uint32_t o = 0; o < transforms_.size(); ++o)
+  for (uint32_t o = 0; o < object_to_world.size(); ++o)
     if (object_to_world[o] != transforms_[o]) moves.push_back({o, object_to_world[o]}), transforms_[o] = object_to_world[o];
-  if (moves.empty()) return;
+  std::vector<std::pair<uint32_t, glm::vec3>> light_moves;  // directional lights have no position: ignored
+  for (uint32_t l = 0; l < light_positions.size(); ++l)
+    if (scene_.punctual_lights[l].type != LightType::directional && light_positions[l] != light_positions_[l])
+      light_moves.push_back({l, light_positions[l]}), light_positions_[l] = light_positions[l];
+  if (moves.empty() && light_moves.empty()) return;
   // Shots submitted from now on record the new placement; earlier ones keep theirs, and their
-  // results are placed with it (the hit was there), so they then move with their object.
-  placement_ = std::make_shared<const std::vector<glm::mat4>>(transforms_);
+  // results are placed with it (the hit was there), so they then move with their object. A moved
+  // light makes cached shading stale; it is left to aging (docs/render.md, "Moving lights").
+  placement_ = std::make_shared<const PlacementState>(PlacementState{transforms_, light_positions_});
+  auto apply = [&rs = ray_scene_, moves = std::move(moves), light_moves = std::move(light_moves)] {
+    for (const auto& [o, m] : moves) rs.set_object_transform(o, m);
+    for (const auto& [l, p] : light_moves) rs.set_punctual_light_position(l, p);
+  };
   if (!async_) {
-    for (const auto& [o, m] : moves) ray_scene_.set_object_transform(o, m);
+    apply();
     return;
   }
   // Async: a shot must be traced against the placement it records. Cancel the requests not yet
   // started first, so none of them can be traced after the move; the slice in flight finishes
   // against the old placement (its shot's), and the move runs before any later slice.
   async_->cancel_pending();
-  async_->run_between_batches([&rs = ray_scene_, moves = std::move(moves)] {
-    for (const auto& [o, m] : moves) rs.set_object_transform(o, m);
-  });
+  async_->run_between_batches(std::move(apply));
 }
 
 void FrameRenderer::integrate(const ShadeBatch& batch) {
@@ -106,7 +116,7 @@ void FrameRenderer::integrate(const ShadeBatch& batch) {
             if (t.blocker < transforms_.size() && t.receiver < transforms_.size())
               triples_[{t.light, t.blocker, t.receiver}] = frame_;
       part.results.assign(batch.results.begin() + ptrdiff_t(begin), batch.results.begin() + ptrdiff_t(end));
-      stats_.samples += cache_.insert(shot->frame, part, *shot->placement);
+      stats_.samples += cache_.insert(shot->frame, part, shot->placement->objects);
     }
     begin = end;
   }
@@ -193,8 +203,10 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
 }
 
 void FrameRenderer::find_and_rasterize_edges(const ViewFrame& frame) {
-  // The finder's scene placed as now; area light outlines follow their objects.
+  // The finder's scene placed as now; area light outlines follow their objects, punctual lights
+  // their positions (a moved light fails the finder's same-light test for its pairs only).
   auto t = Clock::now();
+  for (size_t l = 0; l < light_positions_.size(); ++l) edge_scene_.punctual_lights[l].position = light_positions_[l];
   for (uint32_t o = 0; o < transforms_.size(); ++o) {
     if (edge_scene_.objects[o].object_to_world == transforms_[o]) continue;
     edge_scene_.objects[o].object_to_world = transforms_[o];
@@ -242,10 +254,11 @@ void FrameRenderer::find_and_rasterize_edges(const ViewFrame& frame) {
   stats_.ms.rasterize_edges = ms_since(t);
 }
 
-const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm::mat4> object_to_world) {
+const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm::mat4> object_to_world,
+                                      std::span<const glm::vec3> light_positions) {
   const auto start = Clock::now();
   stats_ = {};
-  apply_transforms(object_to_world);
+  apply_placement(object_to_world, light_positions);
   const ViewFrame frame(make_view(camera, settings_.width, settings_.height));
 
   // New shading results into the cache.

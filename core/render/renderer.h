@@ -84,8 +84,11 @@ class FrameRenderer {
   FrameRenderer& operator=(const FrameRenderer&) = delete;
 
   // Renders the next frame from `camera` with objects placed by object_to_world (one per scene
-  // object; empty: as the scene places them). Returns the image, valid until the next call.
-  const RgbImage& render(const Camera& camera, std::span<const glm::mat4> object_to_world = {});
+  // object; empty: as the scene places them) and punctual lights at light_positions (world space,
+  // one per Scene::punctual_lights entry, directional lights' entries ignored; empty: as the
+  // scene places them). Returns the image, valid until the next call.
+  const RgbImage& render(const Camera& camera, std::span<const glm::mat4> object_to_world = {},
+                         std::span<const glm::vec3> light_positions = {});
 
   const FrameStats& stats() const { return stats_; }
   const PointCache& cache() const { return cache_; }
@@ -98,20 +101,27 @@ class FrameRenderer {
   const edges::SceneEdgeFinder* edge_finder() const { return finder_.get(); }
   double edge_finder_build_ms() const { return finder_ ? finder_->build_ms() : 0.0; }
   int frame() const { return frame_; }
+  const std::vector<glm::vec3>& light_positions() const { return light_positions_; }  // as placed now
+  // The light positions recorded with the newest shot (what its requests are traced with).
+  const std::vector<glm::vec3>& newest_shot_light_positions() const { return shots_.empty() ? light_positions_ : shots_.back().placement->lights; }
   size_t pending_requests() const { return async_ ? async_->pending_requests() : 0; }  // async: not yet shaded
 
  private:
-  using Placement = std::shared_ptr<const std::vector<glm::mat4>>;  // object_to_world per object
-  struct Shot {  // a batch of requests, the view they were made for, and the object placement
+  struct PlacementState {
+    std::vector<glm::mat4> objects;  // object_to_world per object
+    std::vector<glm::vec3> lights;   // position per punctual light
+  };
+  using Placement = std::shared_ptr<const PlacementState>;
+  struct Shot {  // a batch of requests, the view they were made for, and the object and light placement
     uint32_t first_id = 0, count = 0;
     ViewFrame frame;
-    Placement placement;  // the transforms its requests are traced with (shared while nothing moves)
+    Placement placement;  // the placement its requests are traced with (shared while nothing moves)
   };
   struct NewShot {
     ViewFrame frame;
     std::vector<ShadeRequest> requests;
   };
-  void apply_transforms(std::span<const glm::mat4> object_to_world);
+  void apply_placement(std::span<const glm::mat4> object_to_world, std::span<const glm::vec3> light_positions);
   void find_and_rasterize_edges(const ViewFrame& frame);
   void integrate(const ShadeBatch& batch);
   std::vector<NewShot> choose_requests(const ViewFrame& frame, std::span<const float> priority);
@@ -128,8 +138,9 @@ class FrameRenderer {
   StagedReconstructor reconstructor_;
   Reconstruction reconstruction_;
   std::vector<glm::mat4> transforms_;
+  std::vector<glm::vec3> light_positions_;  // per punctual light, as placed now
   std::deque<Shot> shots_;
-  Placement placement_;  // a snapshot of transforms_, renewed when an object moves
+  Placement placement_;  // a snapshot of transforms_ and light_positions_, renewed when something moves
   uint32_t next_id_ = 0;
   std::unique_ptr<Camera> previous_camera_;
   // epi mode: the edge finder sees a light copy of the scene (objects, lights) placed as now.

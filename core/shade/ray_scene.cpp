@@ -128,6 +128,7 @@ void RayScene::build() {
   rtcCommitScene(top_);
   check_device(device_, scene, "build the top-level scene");
 
+  punctual_lights_ = scene.punctual_lights;
   area_lights_ = scene.area_lights;
   area_light_of_object_.assign(scene.objects.size(), kNone);
   for (uint32_t i = 0; i < area_lights_.size(); ++i) area_light_of_object_[area_lights_[i].object] = i;
@@ -186,6 +187,15 @@ void RayScene::set_object_transform(uint32_t object, const glm::mat4& object_to_
     area_lights_[light_index] = std::move(moved);
     update_area_light_cdf();
   }
+}
+
+void RayScene::set_punctual_light_position(uint32_t light, const glm::vec3& position) {
+  if (light >= punctual_lights_.size())
+    throw std::out_of_range(scene_label(scene_) + ": no punctual light " + std::to_string(light) + " to move");
+  if (punctual_lights_[light].type == LightType::directional)
+    throw std::invalid_argument(scene_label(scene_) + ": light '" + punctual_lights_[light].name +
+                                "' is directional and has no position to move");
+  punctual_lights_[light].position = position;
 }
 
 void RayScene::update_area_light_cdf() {

@@ -33,10 +33,16 @@ class RayScene {
   // Moves an object and recommits; its area light, if any, follows. Must not run while
   // other threads trace (AsyncShader::run_between_batches does that safely).
   void set_object_transform(uint32_t object, const glm::mat4& object_to_world);
+  // Moves a point or spot light to a world-space position (its direction, cone and intensity
+  // stay). Throws std::out_of_range for a bad index and std::invalid_argument for a directional
+  // light. Same threading rule as set_object_transform.
+  void set_punctual_light_position(uint32_t light, const glm::vec3& position);
 
   const Scene& scene() const { return scene_; }
   const glm::mat4& object_to_world(uint32_t object) const { return transforms_[object]; }
   const glm::mat3& normal_to_world(uint32_t object) const { return normal_matrices_[object]; }
+  // Punctual lights as currently placed (Scene::punctual_lights order); the shader lights with these.
+  const std::vector<PunctualLight>& punctual_lights() const { return punctual_lights_; }
   // World-space area lights as currently placed (Scene::area_lights order), and the CDF
   // over them by power.
   const std::vector<AreaLight>& area_lights() const { return area_lights_; }
@@ -70,6 +76,7 @@ class RayScene {
   std::vector<RTCGeometry> instances_;  // per object; null for empty meshes
   std::vector<glm::mat4> transforms_;
   std::vector<glm::mat3> normal_matrices_;
+  std::vector<PunctualLight> punctual_lights_;
   std::vector<AreaLight> area_lights_;
   std::vector<uint32_t> area_light_of_object_;  // index into area_lights_, or kNone
   std::vector<std::vector<uint32_t>> light_triangle_maps_;  // per area light: mesh triangle -> light triangle

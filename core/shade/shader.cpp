@@ -151,7 +151,7 @@ struct Shader::Tracer {
 
   // Reflected radiance from punctual light i.
   glm::vec3 punctual(const Surface& s, const BrdfParams& brdf, uint32_t i) {
-    const PunctualLight& light = scene.scene().punctual_lights[i];
+    const PunctualLight& light = scene.punctual_lights()[i];
     glm::vec3 wi;
     glm::vec3 incoming = light.intensity;
     float distance = 1e30f;
@@ -213,7 +213,7 @@ struct Shader::Tracer {
     float pdf_area = probability(scene.area_light_cdf(), l) * probability(light.triangle_cdf, k) / (0.5f * double_area);
     float light_offset = settings.ray_offset * std::max(1.0f, max_abs(point));
     Ray shadow = spawn_to(s, point, wi, light_offset);
-    uint32_t number = uint32_t(scene.scene().punctual_lights.size() + l);
+    uint32_t number = uint32_t(scene.punctual_lights().size() + l);
     if (!visible(s, shadow, number, light.object)) return glm::vec3(0.0f);
     glm::vec3 f = lobes.sum();
     if (mis.brdf > 0 && scene.area_light_mapped(l)) {
@@ -255,7 +255,7 @@ struct Shader::Tracer {
   glm::vec3 direct(const Surface& s, int n, uint64_t key, Rng* stream, int brdf_samples = 0, bool specular_only = false) {
     BrdfParams brdf = BrdfParams::from(*s.material, settings.specular);
     glm::vec3 sum(0.0f);
-    for (uint32_t i = 0; i < scene.scene().punctual_lights.size(); ++i) sum += punctual(s, brdf, i);
+    for (uint32_t i = 0; i < scene.punctual_lights().size(); ++i) sum += punctual(s, brdf, i);
     if (n > 0 && has_area_lights()) {
       glm::vec3 area(0.0f);
       for (int j = 0; j < n; ++j) {

@@ -64,6 +64,69 @@ TEST(CameraPath, ErrorsNameTheFileAndLine) {
   EXPECT_THROW(read_camera_path("/nonexistent/path.txt", scene), std::runtime_error);
 }
 
+Scene with_lights() {
+  Scene scene = two_objects();
+  PunctualLight lamp, spot, sun;
+  lamp.name = "lamp", lamp.position = {1, 2, 3};
+  spot.name = "spot", spot.type = LightType::spot, spot.position = {0, 4, 0};
+  sun.name = "sun", sun.type = LightType::directional;
+  scene.punctual_lights = {lamp, spot, sun};
+  return scene;
+}
+
+TEST(CameraPath, LightKeysMovePointAndSpotLights) {
+  const Scene scene = with_lights();
+  const CameraPath path = parse_camera_path(
+      "light 4 spot translate 0 -2 0\n"
+      "light 0 lamp translate 0 0 0\n"
+      "light 10 lamp translate 2 0 -4  # listed after\n",
+      "p.txt", scene);
+  ASSERT_EQ(path.lights.size(), 3u);
+  EXPECT_TRUE(path.moves_lights());
+  EXPECT_FALSE(path.moves_objects());
+  const auto at5 = path.light_positions_at(scene, 5);
+  ASSERT_EQ(at5.size(), 3u);
+  EXPECT_FLOAT_EQ(at5[0].x, 2.0f);  // 1 + 2 * 0.5
+  EXPECT_FLOAT_EQ(at5[0].y, 2.0f);
+  EXPECT_FLOAT_EQ(at5[0].z, 1.0f);  // 3 - 4 * 0.5
+  EXPECT_FLOAT_EQ(at5[1].y, 2.0f);  // held after its only key
+  EXPECT_EQ(at5[2], scene.punctual_lights[2].position);  // directional: untouched
+  EXPECT_EQ(path.light_positions_at(scene, 0)[0], scene.punctual_lights[0].position);
+  EXPECT_FLOAT_EQ(path.light_positions_at(scene, 99)[0].z, -1.0f);
+  EXPECT_FALSE(parse_camera_path("camera 0 eye 0 0 0 target 1 1 1\n", "p.txt", scene).moves_lights());
+}
+
+TEST(CameraPath, BadLightKeysNameTheFileAndLine) {
+  const Scene scene = with_lights();
+  const struct {
+    const char* text;
+    const char* problem;
+  } bad[] = {
+      {"light 0 nobody translate 1 2 3", "no point or spot light named 'nobody'"},
+      {"light 0 ball translate 1 2 3", "no point or spot light named 'ball'"},  // an object, not a light
+      {"light 0 sun translate 1 2 3", "'sun' is directional"},
+      {"light 0 lamp translate 1 2", "three finite numbers"},
+      {"light 0 lamp translate 1 x 3", "three finite numbers"},
+      {"light 0 lamp translate 1 inf 3", "three finite numbers"},
+      {"light 0 lamp translate 1 1e38 3", "out of range"},
+      {"light 0 lamp translate 1 2 3 4", "unexpected '4'"},
+      {"light 0 lamp rotate 1 2 3", "'translate X Y Z'"},
+      {"light 0", "needs the light's name"},
+      {"light -2 lamp translate 1 2 3", "frame number"},
+  };
+  for (const auto& b : bad) {
+    try {
+      parse_camera_path(std::string("light 0 lamp translate 0 0 0\n") + b.text + "\n", "path.txt", scene);
+      ADD_FAILURE() << "accepted: " << b.text;
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      EXPECT_EQ(what.rfind("path.txt:2: ", 0), 0u) << what;
+      EXPECT_NE(what.find(b.problem), std::string::npos) << what;
+      EXPECT_EQ(what.find('\n'), std::string::npos);
+    }
+  }
+}
+
 TEST(CameraPath, TheScenesPathSpreadsOverTheRun) {
   Scene scene = two_objects();
   EXPECT_EQ(scene_camera_path(scene, 10).camera_at(7).eye, scene.cameras[0].eye);  // no path: still

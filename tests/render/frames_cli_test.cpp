@@ -125,6 +125,32 @@ TEST(FramesCli, CameraPathFileWithAMovingObject) {
   fs::remove_all(dir);
 }
 
+TEST(FramesCli, CameraPathFileWithAMovingLight) {
+  const std::string chains = std::string(EPI_SOURCE_DIR) + "/scenes/chains.gltf";
+  const fs::path dir = temp_dir();
+  std::ofstream(dir / "path.txt") << "light 0 point translate 0 0 0\nlight 3 point translate -0.4 0.2 0.3\n"
+                                     "light 1 spot translate 0 -0.2 0\n";
+  for (const std::string mode : {" --sync", ""}) {
+    const EpiRun run = run_epi("render " + chains + " --mode epi" + kSmall + mode + " --camera-path " +
+                               (dir / "path.txt").string() + " -o " + (dir / "p.png").string());
+    ASSERT_EQ(run.exit_code, 0) << run.out;
+    EXPECT_TRUE(fs::exists(dir / "p.png"));
+    fs::remove(dir / "p.png");
+  }
+  std::ofstream(dir / "bad.txt") << "light 0 point translate 0 0 0\nlight 2 point translate 1 x 0\n";
+  std::ofstream(dir / "nolamp.txt") << "light 0 lamp translate 1 0 0\n";
+  for (const auto& [file, expect] : {std::pair<std::string, std::string>{"bad.txt", "bad.txt:2: 'translate' needs three finite numbers"},
+                                     {"nolamp.txt", "nolamp.txt:1: no point or spot light named 'lamp'"}}) {
+    const EpiRun run = run_epi("render " + chains + " --mode epi" + kSmall + " --sync --camera-path " + (dir / file).string() +
+                               " -o " + (dir / "o.png").string());
+    EXPECT_EQ(run.exit_code, 1) << run.out;
+    EXPECT_NE(run.out.find(expect), std::string::npos) << run.out;
+    EXPECT_EQ(std::count(run.out.begin(), run.out.end(), '\n'), 1) << run.out;
+    EXPECT_FALSE(fs::exists(dir / "o.png"));
+  }
+  fs::remove_all(dir);
+}
+
 TEST(FramesCli, BadInputFailsWithOneLineAndNoOutput) {
   const fs::path dir = temp_dir();
   std::ofstream(dir / "bad.txt") << "# fine\ncamera 0 eye 0 1 3 target 0 1 3\n";
