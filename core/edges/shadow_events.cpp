@@ -405,11 +405,17 @@ void find_shadow_events(const BlockerView& b, const EdgeLight& light, uint32_t l
   const Viewpoint v = light.type == EdgeLight::Type::point
                           ? m.local_point(transform_point(world_to_object, light.position))
                           : EdgeMesh::local_direction(-transform_vector(world_to_object, light.direction));
-  for (uint32_t e : m.border_edges) {
-    const uint32_t f = m.face0[e];
-    if (m.nx[f] * v.x + m.ny[f] * v.y + m.nz[f] * v.z - m.d[f] * v.w != 0.0f) edges.push_back(e);
-  }
+  // A face seen edge-on from the light within rounding (the light in its plane) casts a shadow of
+  // no width: where the light lies in both faces' planes, rounding alone would decide Equation 1.
+  auto edge_on = [&](uint32_t f) {
+    const float facing = m.nx[f] * v.x + m.ny[f] * v.y + m.nz[f] * v.z - m.d[f] * v.w;  // unit normal
+    const float scale = std::abs(v.x) + std::abs(v.y) + std::abs(v.z) + std::abs(m.d[f] * v.w);
+    return std::abs(facing) <= 1e-5f * scale;
+  };
+  for (uint32_t e : m.border_edges)
+    if (!edge_on(m.face0[e])) edges.push_back(e);
   for (uint32_t e : edges) {
+    if (edge_on(m.face0[e]) && edge_on(m.face1[e])) continue;
     // A non-manifold edge bounds the shadow only when all its faces (not just the two of
     // Equation 1) lie on one side of the plane through the light and the edge.
     if (m.flags[e] & kNonManifold) {
@@ -422,7 +428,8 @@ void find_shadow_events(const BlockerView& b, const EdgeLight& light, uint32_t l
       for (uint32_t f : m.edge_faces(e, scratch)) {
         const glm::dvec3 o = glm::dvec3(m.positions[opposite(m.faces[f], m.v0[e], m.v1[e])]) - m.origin;
         const double s = glm::dot(normal, o - a);
-        const int sign = s > 0.0 ? 1 : s < 0.0 ? -1 : 0;
+        const double tolerance = 1e-9 * glm::length(normal) * glm::length(o - a);  // coplanar within rounding
+        const int sign = s > tolerance ? 1 : s < -tolerance ? -1 : 0;
         if (sign == 0 || (common != 0 && sign != common)) one_side = false;
         common = sign;
       }

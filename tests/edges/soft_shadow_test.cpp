@@ -379,5 +379,35 @@ TEST(ShadowClipping, InterpenetratingReceivers) {
   EXPECT_EQ(hidden, 0) << "of " << samples << " points on shadow edges are hidden from the light by the other receiver";
 }
 
+
+TEST(HardShadowsOfOpenSurfaces, PlateSeenEdgeOnCastsNoShadowEdges) {
+  // A point light in the plane of a tilted open plate (in float, within rounding of it): the
+  // plate casts a shadow of zero width, so no event may come from its border edges; an exact
+  // zero test lets rounding make the plate's own plane an event plane across the floor.
+  World w;
+  w.add(grid(16, 8.0f), glm::mat4(1.0f));
+  const glm::mat4 place = at({0.0f, 1.0f, 0.1f}, 15.0f, {0, 0, 1});
+  w.add(grid(3, 0.8f), place);
+  // height: the light's offset from the plate's plane (0: in it; 0.02: just above, a real shadow).
+  auto plate_events = [&](float height) {
+    int count = 0;
+    for (const float s : {1.7f, 2.3f, -1.9f, 2.9f})
+      for (const float t : {0.3f, -0.45f, 0.05f}) {
+        Scene scene = w.scene;
+        PunctualLight light;
+        light.position = glm::vec3(place * glm::vec4(s, height, t, 1.0f));
+        scene.punctual_lights.push_back(light);
+        SceneEdgeFinder finder(scene);
+        std::vector<SceneEdge> edges;
+        const std::vector<LightBlockerReceiver> triples = {{0, 1, 0}};
+        finder.shadow_edges(scene, triples, edges);
+        for (const SceneEdge& e : edges) count += e.blocker == 1;
+      }
+    return count;
+  };
+  EXPECT_EQ(plate_events(0.0f), 0);
+  EXPECT_GT(plate_events(0.02f), 0);
+}
+
 }  // namespace
 }  // namespace epi::edges
