@@ -193,24 +193,32 @@ size_t PointCache::take_slot() {
   // Clock sweep from the round-robin cursor: the first slot that is free, off screen, or at least
   // evict_age_ old. Points inserted since the last projection (age 0) are never taken. After a
   // full turn without one (replacements made the old points fresh) any point not inserted this
-  // frame will do, after a second turn the cursor's slot.
+  // frame will do, also for the rest of the frame (so the futile turn is not repeated), and
+  // after a second turn the cursor's slot.
   const size_t n = points_.size();
+  auto evict = [&](size_t slot) {  // the histogram follows, so the next insert's threshold is right
+    const CachePoint& p = points_[slot];
+    const size_t bin = p.image_id < 0 ? age_histogram_.size() - 1 : std::min<size_t>(p.age, age_histogram_.size() - 2);
+    if (p.valid && bin < age_histogram_.size() && age_histogram_[bin] > 0) --age_histogram_[bin];
+    return slot;
+  };
   for (size_t scanned = 0; scanned < 2 * n; ++scanned) {
+    if (scanned == n) evict_age_ = 1;
     const size_t slot = cursor_;
     cursor_ = cursor_ + 1 == n ? 0 : cursor_ + 1;
     const CachePoint& p = points_[slot];
     if (!p.valid) return slot;
     if (p.age == 0) continue;
-    if (p.image_id < 0 || p.age >= (scanned < n ? evict_age_ : 1)) return slot;
+    if (p.image_id < 0 || p.age >= evict_age_) return evict(slot);
   }
   const size_t slot = cursor_;
   cursor_ = cursor_ + 1 == n ? 0 : cursor_ + 1;
-  return slot;
+  return evict(slot);
 }
 
 void PointCache::choose_evict_age(size_t needed) {
   // The largest age such that at least `needed` points are that old or older (off-screen points
-  // count as oldest), from the histogram of the last projection.
+  // count as oldest), from the histogram of the last projection less the points evicted since.
   size_t count = 0;
   evict_age_ = 1;
   for (int a = int(age_histogram_.size()) - 1; a >= 1; --a) {
@@ -246,7 +254,11 @@ int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, con
     return hidden(q) ? q : -1;
   };
   const Projection p0 = last_frame_->project(last_world);
-  if (!p0.in_front()) return -1;
+  // In front, and near the image (a hit close to the last eye's plane projects far away, or to
+  // non-finite pixels: converting those to int would be undefined).
+  if (!p0.in_front() || !(p0.pixel.x > -2.0f && p0.pixel.y > -2.0f && p0.pixel.x < float(w) + 2.0f &&
+                          p0.pixel.y < float(h) + 2.0f))
+    return -1;
   const int x0 = int(std::floor(p0.pixel.x)), y0 = int(std::floor(p0.pixel.y));
   for (int dy = -1; dy <= 1; ++dy)
     for (int dx = -1; dx <= 1; ++dx)
@@ -255,8 +267,9 @@ int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, con
   const Projection p1 = last_frame_->project(last_frame_->eye() + dir * background_depth_);
   if (!p1.in_front()) return -1;
   glm::vec2 d = p1.pixel - p0.pixel;
+  if (!std::isfinite(d.x) || !std::isfinite(d.y)) return -1;
   const float length = std::min(glm::length(d), kMaxWalk);
-  if (length < 1.0f) return -1;
+  if (!(length >= 1.0f)) return -1;
   d = glm::normalize(d);
   int last_x = x0, last_y = y0;
   for (float t = 0.5f; t <= length; t += 0.5f) {
@@ -303,7 +316,9 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
           proj.pixel.y < float(h)) {
         const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
         const int32_t old = image_.point[image_.index(px, py)];
-        if (old >= 0 && points_[size_t(old)].valid && points_[size_t(old)].object == point.object &&
+        // (age 0: the slot was given to a result since the projection: not the point drawn there)
+        if (old >= 0 && points_[size_t(old)].valid && points_[size_t(old)].age != 0 &&
+            points_[size_t(old)].object == point.object &&
             (point.object == kNone || std::abs(image_.depth[image_.index(px, py)] - proj.depth) <= 0.05f * proj.depth)) {
           replace = old;
           if (shading_changed(points_[size_t(old)].color, point.color, settings_.change_threshold)) {

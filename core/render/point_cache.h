@@ -97,7 +97,7 @@ class PointCache {
   std::vector<uint32_t> free_slots_;
   size_t cursor_ = 0;
   int evict_age_ = 1;                   // take_slot's sweep takes points at least this old
-  std::vector<uint32_t> age_histogram_;  // of the last projection (off-screen points last)
+  std::vector<uint32_t> age_histogram_;  // of the last projection less the points evicted since (off-screen last)
   size_t hidden_removed_ = 0;
   PointImage image_;
   std::vector<uint64_t> zbuffer_;  // (depth bits << 32) | point index, min wins

@@ -384,7 +384,8 @@ TEST(FrameLoop, FramesReturnWhileTheShaderIsHeld) {
   release.set_value();
   frames.wait();
   EXPECT_TRUE(returned) << "frames waited for the held shader";
-  EXPECT_EQ(entered_while_held, 1);  // the shader was blocked the whole time, before any slice
+  // The shader never got past the hook while held (it may not even have reached it yet).
+  EXPECT_LE(entered_while_held, 1);
   EXPECT_EQ(points_while_held, 0u);
   EXPECT_GT(pending_while_held, 0u);
 }
@@ -467,22 +468,30 @@ TEST(FrameLoop, AsyncPrefixOfTheRequestsCoversTheWholeImage) {
     changed.notify_all();
     changed.wait(lock, [&] { return entered <= allowed; });
   };
+  auto release_all = [&] {
+    {
+      std::lock_guard lock(mutex);
+      allowed = 1 << 30;
+    }
+    changed.notify_all();
+  };
   FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
   renderer.render(f.scene.cameras[0]);
+  bool second_slice_asked = false;
   {
     std::unique_lock lock(mutex);  // the first slice is shaded once the second is asked for
-    ASSERT_TRUE(changed.wait_for(lock, std::chrono::seconds(20), [&] { return entered == 2; }));
+    second_slice_asked = changed.wait_for(lock, std::chrono::seconds(20), [&] { return entered == 2; });
+  }
+  if (!second_slice_asked) {
+    release_all();  // else the renderer's destructor would wait for the held shader forever
+    FAIL() << "the shader never asked for its second slice";
   }
   renderer.render(f.scene.cameras[0]);
   const size_t shaded = renderer.stats().samples;
   std::array<size_t, 4> quarters{};
   for (const CachePoint& p : renderer.cache().points())
     if (p.valid && p.image_id >= 0) ++quarters[size_t(p.image_id / 128 / 32)];
-  {
-    std::lock_guard lock(mutex);
-    allowed = 1 << 30;
-  }
-  changed.notify_all();
+  release_all();
   EXPECT_GT(shaded, 100u);
   EXPECT_LE(shaded, 1024u);
   for (size_t q = 0; q < 4; ++q) EXPECT_GE(double(quarters[q]), 0.5 * double(shaded) / 4.0) << "quarter " << q;

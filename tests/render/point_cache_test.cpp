@@ -5,6 +5,8 @@
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "render/point_cache.h"
@@ -299,14 +301,21 @@ TEST(PointCache, AFullCloudEvictsItsOldestPointsNeverThoseOfThisFrame) {
   EXPECT_GE(youngest_evicted, oldest_left);
   EXPECT_GE(evicted_mean, cloud_mean);
 
-  // A second batch in the same frame takes old points too, never the first batch's (not yet projected).
+  // A second batch in the same frame takes the remaining old points first, then younger ones,
+  // never the first batch's (not yet projected).
+  const size_t old_left = size_t(std::count_if(cache.points().begin(), cache.points().end(),
+                                               [](const CachePoint& p) { return p.object == 0 && p.age >= 20; }));
+  ASSERT_EQ(old_left, 9u);
   ShadeBatch more;
-  for (size_t k = 0; k < 9; ++k)
+  for (size_t k = 0; k < 14; ++k)
     more.results.push_back(plane_hit(frame, float(k) + 0.5f, 8.5f, -2.0f, 2, glm::vec3(0.1f)));
   cache.insert(frame, more, kIdentity);
   size_t first_batch_left = 0;
   for (size_t i : evicted) first_batch_left += cache.points()[i].object == 1;
   EXPECT_EQ(first_batch_left, evicted.size());
+  EXPECT_EQ(std::count_if(cache.points().begin(), cache.points().end(),
+                          [](const CachePoint& p) { return p.object == 0 && p.age >= 20; }),
+            0);
 }
 
 TEST(PointCache, BackgroundPointsStayAtTheirDirectionWhenTheCameraTranslates) {
