@@ -82,14 +82,14 @@ int run_render_frames(const RenderOptions& options) {
   const auto start = Clock::now();
   check_output_image(options.output);
   if (!options.stats.empty()) check_output_file(options.stats);
-  if (options.frames_out.empty()) {
-    check_distinct_outputs({options.output, options.stats});
-  } else {
-    const std::string last = options.frames > 1 ? frame_file(options.frames_out, options.frames - 1) : "";
-    check_distinct_outputs({options.output, options.stats, frame_file(options.frames_out, 0), last});
-  }
+  // Every output, each frame's included, checked before any work: writable, and no two alike.
+  std::vector<std::string> outputs_named = {options.output, options.stats};
   if (!options.frames_out.empty())
-    for (int f : {0, options.frames - 1}) check_output_image(frame_file(options.frames_out, f));
+    for (int f = 0; f < options.frames; ++f) {
+      outputs_named.push_back(frame_file(options.frames_out, f));
+      check_output_image(outputs_named.back());
+    }
+  check_distinct_outputs(outputs_named);
   const ShaderSettings shader_settings_ = shader_settings(options);
   if (!(options.sample_budget > 0.0 && options.sample_budget <= 1.0))
     throw std::invalid_argument("--sample-budget " + std::to_string(options.sample_budget) + " is not in (0, 1]");

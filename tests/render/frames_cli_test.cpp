@@ -175,4 +175,26 @@ TEST(FramesCli, BadInputFailsWithOneLineAndNoOutput) {
   fs::remove_all(dir);
 }
 
+TEST(FramesCli, EveryFrameNameIsCheckedBeforeAnyWork) {
+  // Middle frames, not only the first and last: one named like -o, one in a missing folder.
+  const fs::path dir = temp_dir();
+  fs::create_directories(dir / "d0");
+  fs::create_directories(dir / "d3");
+  struct Case {
+    std::string args, expect, stray;
+  } cases[] = {
+      {"-o " + (dir / "f2.png").string() + " --frames-out " + (dir / "f%d.png").string(), "given for two outputs", "f0.png"},
+      {"-o " + (dir / "o.png").string() + " --frames-out " + (dir / "d%d/x.png").string(), "d1", "o.png"},
+  };
+  for (const Case& c : cases) {
+    const EpiRun run = run_epi("render " + kScene + " --mode epi --size 16x12 --frames 4 --sync --quiet " + c.args);
+    EXPECT_EQ(run.exit_code, 1) << c.args << "\n" << run.out;
+    EXPECT_NE(run.out.find(c.expect), std::string::npos) << run.out;
+    EXPECT_EQ(std::count(run.out.begin(), run.out.end(), '\n'), 1) << run.out;
+    EXPECT_FALSE(fs::exists(dir / c.stray));
+    EXPECT_FALSE(fs::exists(dir / "d0" / "x.png"));
+  }
+  fs::remove_all(dir);
+}
+
 }  // namespace
