@@ -116,10 +116,11 @@ void StagedOutputs::commit() {
     std::error_code ec;
     fs::rename(staged_[i].temporary, staged_[i].target, ec);
     if (ec) {
-      // Undo nothing already moved (those files are complete), drop the rest.
+      // All or nothing: remove the outputs already moved into place; the destructor drops the rest.
+      const std::string message = staged_[i].target.string() + ": could not move the finished file into place: " + ec.message();
+      for (size_t k = 0; k < i; ++k) fs::remove(staged_[k].target, ec);
       staged_.erase(staged_.begin(), staged_.begin() + std::ptrdiff_t(i));
-      throw std::runtime_error(staged_.front().target.string() + ": could not move the finished file into place: " +
-                               ec.message());
+      throw std::runtime_error(message);
     }
   }
   staged_.clear();
