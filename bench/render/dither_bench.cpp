@@ -11,8 +11,6 @@
 #include <vector>
 
 #include <benchmark/benchmark.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "render/sampling.h"
 
@@ -110,63 +108,10 @@ std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width
 }
 
 std::vector<uint32_t> dither_pixels_fs(std::span<const float> priority, int width, int height, size_t count) {
-  const size_t pixels = size_t(width) * size_t(height);
-  count = std::min(count, pixels);
-  if (count == 0 || pixels == 0) return {};
-  double total = 0.0;
-  for (float p : priority) total += std::max(0.0f, p);
-  const bool uniform = !(total > 0.0) || priority.size() < pixels;
-
-  // Bands of rows dithered in parallel. Each gets a share of the count by its priority sum
-  // (largest remainders), never more than its positive pixels while other bands have some left.
-  const int band_rows = 64;
-  const int bands = (height + band_rows - 1) / band_rows;
-  struct Band {
-    double sum = 0;
-    size_t positive = 0, pixels = 0, count = 0;
-  };
-  std::vector<Band> info(static_cast<size_t>(bands));
-  tbb::parallel_for(0, bands, [&](int b) {
-    Band& band = info[size_t(b)];
-    const size_t first = size_t(b) * band_rows * size_t(width);
-    band.pixels = size_t(std::min(height, (b + 1) * band_rows) - b * band_rows) * size_t(width);
-    for (size_t i = first; i < first + band.pixels; ++i) {
-      const float p = uniform ? 1.0f : std::max(0.0f, priority[i]);
-      band.sum += p, band.positive += p > 0.0f;
-    }
-  });
-  double sum = 0.0;
-  for (const Band& b : info) sum += b.sum;
-  std::vector<std::pair<double, int>> remainders;
-  size_t given = 0;
-  for (int b = 0; b < bands; ++b) {
-    const double exact = double(count) * info[size_t(b)].sum / sum;
-    info[size_t(b)].count = std::min(info[size_t(b)].positive, size_t(exact));
-    given += info[size_t(b)].count;
-    remainders.push_back({exact - double(info[size_t(b)].count), b});
-  }
-  std::stable_sort(remainders.begin(), remainders.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-  for (const bool zeros_too : {false, true})  // positive pixels first, by remainder; then any pixel
-    for (size_t pass = 0; given < count && pass < 2; ++pass)
-      for (const auto& [remainder, b] : remainders) {
-        Band& band = info[size_t(b)];
-        const size_t room = (zeros_too ? band.pixels : band.positive) - band.count;
-        const size_t add = std::min(room, pass == 0 ? size_t(1) : count - given);
-        band.count += add, given += add;
-        if (given == count) break;
-      }
-
-  std::vector<std::vector<uint32_t>> picks(static_cast<size_t>(bands));
-  tbb::parallel_for(0, bands, [&](int b) {
-    const size_t first = size_t(b) * band_rows * size_t(width);
-    const int rows = int(info[size_t(b)].pixels / size_t(width));
-    picks[size_t(b)] = dither_band(uniform ? nullptr : priority.data() + first, uniform, width, rows, info[size_t(b)].count);
-    for (uint32_t& i : picks[size_t(b)]) i += uint32_t(first);
-  });
-  std::vector<uint32_t> picked;
-  picked.reserve(count);
-  for (const auto& p : picks) picked.insert(picked.end(), p.begin(), p.end());
-  return picked;
+  return dither_in_bands(priority, width, height, count,
+                         [](const float* p, bool uniform, int w, int rows, size_t n, uint64_t) {
+                           return dither_band(p, uniform, w, rows, n);
+                         });
 }
 
 }  // namespace baseline

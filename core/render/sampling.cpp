@@ -126,7 +126,8 @@ std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width
 
 }  // namespace
 
-std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, int height, size_t count) {
+std::vector<uint32_t> dither_in_bands(std::span<const float> priority, int width, int height, size_t count,
+                                      const BandDither& band_dither) {
   const size_t pixels = size_t(width) * size_t(height);
   count = std::min(count, pixels);
   if (count == 0 || pixels == 0) return {};
@@ -178,13 +179,17 @@ std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, 
     const size_t first = size_t(b) * band_rows * size_t(width);
     const int rows = int(info[size_t(b)].pixels / size_t(width));
     picks[size_t(b)] =
-        dither_band(uniform ? nullptr : priority.data() + first, uniform, width, rows, info[size_t(b)].count, uint64_t(b));
+        band_dither(uniform ? nullptr : priority.data() + first, uniform, width, rows, info[size_t(b)].count, uint64_t(b));
     for (uint32_t& i : picks[size_t(b)]) i += uint32_t(first);
   });
   std::vector<uint32_t> picked;
   picked.reserve(count);
   for (const auto& p : picks) picked.insert(picked.end(), p.begin(), p.end());
   return picked;
+}
+
+std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, int height, size_t count) {
+  return dither_in_bands(priority, width, height, count, dither_band);
 }
 
 void make_requests(std::span<const uint32_t> pixels, int width, uint64_t seed, uint64_t frame, uint32_t first_id,

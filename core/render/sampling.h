@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -18,6 +19,14 @@ namespace epi::render {
 // by Floyd-Steinberg error diffusion (serpentine rows). Pixels of zero priority are taken only
 // when every positive one is; zero priority everywhere counts as uniform. Deterministic.
 std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, int height, size_t count);
+
+// The parallel frame of dither_pixels: `count` is shared among bands of 64 rows by their priority
+// sums (largest remainders; positive pixels first), and each band is dithered on its own by
+// band_dither(priority of the band or null when uniform, uniform, width, rows, band count, band
+// index), which returns band-relative pixel indices. The benchmark runs its baseline through it.
+using BandDither = std::function<std::vector<uint32_t>(const float*, bool, int, int, size_t, uint64_t)>;
+std::vector<uint32_t> dither_in_bands(std::span<const float> priority, int width, int height, size_t count,
+                                      const BandDither& band_dither);
 
 // One request per pixel, jittered uniformly inside it by a hash of (seed, frame, pixel); ids
 // count up from first_id.
