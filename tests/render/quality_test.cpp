@@ -3,6 +3,7 @@
 // reference than the render cache's, also at the pixels its geometric edges cross; and with a still
 // camera the EPI error keeps falling.
 #include <cmath>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -104,8 +105,9 @@ TEST_P(Quality, EpiIsCloserToTheReferenceThanTheRenderCacheAndKeepsImproving) {
   for (size_t i = 0; i < e_epi.size(); ++i)
     if (near_shadows[i]) shadow_epi += e_epi[i], shadow_cache += e_cache[i], ++shadow_count;
   if (shadow_count >= 20) {
-    // torus_capsule is a known open defect (docs/render.md, "Quality"): EPI is 1.38x the render
-    // cache's error at its shadow edges; held at that level here so it cannot get worse unseen.
+    // torus_capsule: EPI is 1.38x the render cache's error at its shadow edges, the cost of cutting
+    // interpolation at a 2-3 pixel wide penumbra (docs/render.md, "Quality"; test below); held
+    // at that level here so it cannot get worse unseen.
     const double allowed = std::string(GetParam()) == "torus_capsule.gltf" ? 1.45 : 1.0;
     EXPECT_LT(shadow_epi, allowed * shadow_cache);
   }
@@ -115,6 +117,70 @@ TEST_P(Quality, EpiIsCloserToTheReferenceThanTheRenderCacheAndKeepsImproving) {
   RecordProperty("error_ratio_edges", std::to_string(edge_epi / edge_cache));
   std::printf("%s: EPI/render cache error %.3f overall, %.3f at %zu edge pixels\n", GetParam(), all_epi / all_cache,
               edge_epi / edge_cache, edge_count);
+}
+
+// torus_capsule's shadow-edge excess (docs/render.md, "Quality") is the narrow penumbra, not a
+// misplaced edge: under the capsule the umbral and penumbral edges are 2-3 pixels apart and the
+// shading climbs from black to lit between them. The EPI estimates that strip from its own few
+// samples, whose mean lies mid-ramp, so pixels on the umbral edges come out too bright and those
+// on the penumbral edges too dark; without the shadow edges the same pixels beat the render cache.
+TEST(QualityTorusCapsule, ShadowEdgeExcessIsTheNarrowPenumbraStrip) {
+  Loaded loaded("torus_capsule.gltf");
+  const View view = still_view(loaded.scene);
+  const RgbImage reference = render_image(loaded.shader, view, 8);
+  auto run = [&](RenderMode mode, bool shadow_edges, RgbImage& image) {
+    FrameSettings s;
+    s.width = kSize, s.height = kSize, s.sync = true, s.sample_budget = 0.04, s.seed = 2;
+    s.mode = mode, s.shadow_edges = shadow_edges;
+    auto r = std::make_unique<FrameRenderer>(loaded.scene, loaded.ray_scene, loaded.shader, s);
+    for (int f = 0; f < 12; ++f) image = r->render(view.camera);
+    return r;
+  };
+  RgbImage epi_image, plain_image, cache_image;
+  const auto epi = run(RenderMode::epi, true, epi_image);
+  run(RenderMode::epi, false, plain_image);
+  run(RenderMode::rendercache, false, cache_image);
+  // Pixels crossed by one kind of shadow edge only.
+  auto kind_pixels = [&](edges::EdgeKind kind) {
+    std::vector<uint8_t> mask(size_t(kSize) * size_t(kSize), 0);
+    for (size_t k = 0; k < epi->segments().size(); ++k) {
+      if (epi->segment_kinds()[k] != kind) continue;
+      const Segment& s = epi->segments()[k];
+      const int steps = 1 + int(4.0 * std::hypot(s.x1 - s.x0, s.y1 - s.y0));
+      for (int j = 0; j <= steps; ++j) {
+        const double t = double(j) / steps;
+        const int x = int(std::floor(s.x0 + t * (s.x1 - s.x0))), y = int(std::floor(s.y0 + t * (s.y1 - s.y0)));
+        if (x >= 0 && y >= 0 && x < kSize && y < kSize) mask[size_t(y) * size_t(kSize) + size_t(x)] = 1;
+      }
+    }
+    return mask;
+  };
+  const std::vector<uint8_t> umbral = kind_pixels(edges::EdgeKind::umbral), penumbral = kind_pixels(edges::EdgeKind::penumbral);
+  const std::vector<uint8_t> shadow = edge_pixels(*epi, kSize, kSize, true);
+  // Signed error (EPI - reference, summed over channels) on pixels of one kind only.
+  auto signed_error = [&](const std::vector<uint8_t>& mine, const std::vector<uint8_t>& other) {
+    double sum = 0.0;
+    for (size_t i = 0; i < mine.size(); ++i)
+      if (mine[i] && !other[i])
+        for (int c = 0; c < 3; ++c) sum += double(epi_image.pixels[i * 3 + size_t(c)]) - double(reference.pixels[i * 3 + size_t(c)]);
+    return sum;
+  };
+  const double umbral_bias = signed_error(umbral, penumbral), penumbral_bias = signed_error(penumbral, umbral);
+  auto masked = [&](const RgbImage& image) {
+    double sum = 0.0;
+    const std::vector<double> e = pixel_errors(image, reference);
+    for (size_t i = 0; i < e.size(); ++i)
+      if (shadow[i]) sum += e[i];
+    return sum;
+  };
+  const double with_edges = masked(epi_image), without = masked(plain_image), cache = masked(cache_image);
+  std::printf("torus_capsule shadow edge pixels: EPI/render cache %.3f with shadow edges, %.3f without; "
+              "EPI signed error %+.2f on umbral pixels, %+.2f on penumbral pixels\n",
+              with_edges / cache, without / cache, umbral_bias, penumbral_bias);
+  EXPECT_GT(umbral_bias, 0.0);     // too bright next to the umbra
+  EXPECT_LT(penumbral_bias, 0.0);  // too dark next to the lit floor
+  EXPECT_LT(without, cache);       // the same pixels without shadow edges: better than the render cache
+  EXPECT_GT(with_edges, cache);    // the known defect; when this fails, update docs/render.md and the allowance
 }
 
 INSTANTIATE_TEST_SUITE_P(BundledScenes, Quality,
