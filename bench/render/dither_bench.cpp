@@ -75,36 +75,7 @@ std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width
       std::swap(err_row, err_next);
     }
   }
-  for (size_t i = 0; i < pixels; ++i)
-    if (chosen[i]) picked.push_back(uint32_t(i));
-
-  // Settle the count by the decision values: positive priority first, then the value nearest the
-  // threshold from the other side; ties by index.
-  auto before = [&](uint32_t a, uint32_t b) {
-    const bool pa = weight(a) > 0.0f, pb = weight(b) > 0.0f;
-    if (pa != pb) return pa;
-    if (decision[a] != decision[b]) return decision[a] > decision[b];
-    return a < b;
-  };
-  if (picked.size() > count) {
-    std::nth_element(picked.begin(), picked.begin() + ptrdiff_t(count), picked.end(), before);
-    picked.resize(count);
-  } else if (picked.size() < count) {
-    // The best unpicked pixels: usually among those that came close to the threshold, so look
-    // there first and at all of them only if that is not enough.
-    const size_t need = count - picked.size();
-    std::vector<uint32_t> rest;
-    for (const bool near_only : {true, false}) {
-      rest.clear();
-      for (size_t i = 0; i < pixels; ++i)
-        if (!chosen[i] && (!near_only || (weight(i) > 0.0f && decision[i] >= 0.25f))) rest.push_back(uint32_t(i));
-      if (rest.size() >= need) break;  // the best `need` of all rank first among these
-    }
-    std::nth_element(rest.begin(), rest.begin() + ptrdiff_t(need), rest.end(), before);
-    picked.insert(picked.end(), rest.begin(), rest.begin() + ptrdiff_t(need));
-  }
-  std::sort(picked.begin(), picked.end());
-  return picked;
+  return settle_picks(uniform ? nullptr : priority, chosen, decision, count);
 }
 
 std::vector<uint32_t> dither_pixels_fs(std::span<const float> priority, int width, int height, size_t count) {

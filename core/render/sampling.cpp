@@ -92,6 +92,16 @@ std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width
       }
     }
   }
+  return settle_picks(uniform ? nullptr : priority, chosen, decision, count);
+}
+
+}  // namespace
+
+std::vector<uint32_t> settle_picks(const float* priority, std::span<const uint8_t> chosen, std::span<const float> decision,
+                                   size_t count) {
+  const size_t pixels = chosen.size();
+  auto weight = [&](size_t i) { return priority ? std::max(0.0f, priority[i]) : 1.0f; };
+  std::vector<uint32_t> picked;
   for (size_t i = 0; i < pixels; ++i)
     if (chosen[i]) picked.push_back(uint32_t(i));
 
@@ -123,8 +133,6 @@ std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width
   std::sort(picked.begin(), picked.end());
   return picked;
 }
-
-}  // namespace
 
 std::vector<uint32_t> dither_in_bands(std::span<const float> priority, int width, int height, size_t count,
                                       const BandDither& band_dither) {

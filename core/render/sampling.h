@@ -20,6 +20,13 @@ namespace epi::render {
 // when every positive one is; zero priority everywhere counts as uniform. Deterministic.
 std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, int height, size_t count);
 
+// An error diffusion's picks (`chosen`, with each pixel's value at its decision) settled to
+// exactly `count` pixels: a surplus drops the picks nearest the threshold, a shortfall adds the
+// unpicked pixels nearest it, positive priority (null `priority`: uniform) before zero, ties by
+// index. Sorted pixel indices.
+std::vector<uint32_t> settle_picks(const float* priority, std::span<const uint8_t> chosen, std::span<const float> decision,
+                                   size_t count);
+
 // The parallel frame of dither_pixels: `count` is shared among bands of 64 rows by their priority
 // sums (largest remainders; positive pixels first), and each band is dithered on its own by
 // band_dither(priority of the band or null when uniform, uniform, width, rows, band count, band
