@@ -26,16 +26,7 @@
 namespace epi::render {
 namespace {
 
-Scene plane_and_box() {
-  Scene scene;
-  const uint32_t grey = test::add_material(scene, glm::vec3(0.7f));
-  const uint32_t red = test::add_material(scene, glm::vec3(0.8f, 0.2f, 0.1f));
-  test::add_object(scene, test::quad_mesh({-6, -6, 0}, {12, 0, 0}, {0, 12, 0}, grey), "ground");
-  test::add_object(scene, test::box_mesh({-0.8f, -0.8f, 0.0f}, {0.8f, 0.8f, 1.6f}, red, false), "box");
-  scene.punctual_lights.push_back(test::point_light({2.0f, -3.0f, 6.0f}, glm::vec3(40.0f)));
-  scene.cameras.push_back(test::look({3.0f, -6.0f, 4.0f}, {0.0f, 0.0f, 0.6f}, 45.0f));
-  return scene;
-}
+using test::plane_and_box;
 
 struct Fixture {
   Scene scene = plane_and_box();

@@ -115,4 +115,18 @@ inline Camera look(glm::vec3 eye, glm::vec3 target, float yfov = 45.0f) {
   return c;
 }
 
+// A ground quad with a red box on it, one point light ("lamp") and a camera looking at the box:
+// the frame loop's and the moving-light tests' small scene.
+inline Scene plane_and_box() {
+  Scene scene;
+  const uint32_t grey = add_material(scene, glm::vec3(0.7f));
+  const uint32_t red = add_material(scene, glm::vec3(0.8f, 0.2f, 0.1f));
+  add_object(scene, quad_mesh({-6, -6, 0}, {12, 0, 0}, {0, 12, 0}, grey), "ground");
+  add_object(scene, box_mesh({-0.8f, -0.8f, 0.0f}, {0.8f, 0.8f, 1.6f}, red, false), "box");
+  scene.punctual_lights.push_back(point_light({2.0f, -3.0f, 6.0f}, glm::vec3(40.0f)));
+  scene.punctual_lights.back().name = "lamp";
+  scene.cameras.push_back(look({3.0f, -6.0f, 4.0f}, {0.0f, 0.0f, 0.6f}, 45.0f));
+  return scene;
+}
+
 }  // namespace epi::test
