@@ -13,6 +13,7 @@
 
 #include <glm/glm.hpp>
 
+#include "image/resource_limit.h"
 #include "shade/shader.h"
 
 namespace epi {
@@ -33,6 +34,7 @@ Camera apply_camera_override(const Scene& scene, const CameraOverride& override_
 struct InfoOptions {
   std::string scene;
   int subdiv_level = -1;  // -1: as the scene says
+  uint64_t memory_limit = kDefaultMemoryLimit;  // --memory-limit, bytes
 };
 int run_info(const InfoOptions& options);
 
@@ -50,6 +52,7 @@ struct RenderOptions {
   float exposure = 0.0f;  // stops, for 8-bit outputs (io/image tone map)
   bool quiet = false;
   int subdiv_level = -1;
+  uint64_t memory_limit = kDefaultMemoryLimit;  // --memory-limit, bytes
   CameraOverride camera;
   // The frame loop (modes epi and rendercache):
   int frames = 60;
@@ -76,6 +79,7 @@ struct ReconstructOptions {
   std::string stats;
   int threads = 0;
   bool quiet = false;
+  uint64_t memory_limit = kDefaultMemoryLimit;  // --memory-limit, bytes
 };
 int run_reconstruct(const ReconstructOptions& options);
 
@@ -89,6 +93,7 @@ struct EdgesOptions {
   std::string stats;
   int subdiv_level = -1;
   int threads = 0;
+  uint64_t memory_limit = kDefaultMemoryLimit;  // --memory-limit, bytes
 };
 int run_edges(const EdgesOptions& options);
 

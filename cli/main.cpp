@@ -2,12 +2,15 @@
 // Each subcommand's work is in its own file, behind cli/commands.h.
 #include <CLI/CLI.hpp>
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <sstream>
 
 #include "commands.h"
+#include "image/resource_limit.h"
 
 namespace {
 
@@ -35,6 +38,15 @@ bool parse_vec3(const std::string& text, glm::vec3& out) {
   return true;
 }
 
+// CLI::Range lets NaN through (every comparison with it is false): numbers must be finite too.
+const CLI::Validator kFinite(
+    [](std::string& text) {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      return std::isfinite(v) ? std::string() : "expected a finite number, got '" + text + "'";
+    },
+    "FINITE");
+
 void add_vec3_option(CLI::App& app, const std::string& name, std::optional<glm::vec3>& target, const std::string& help) {
   app.add_option_function<std::string>(
          name,
@@ -53,7 +65,19 @@ void add_camera_options(CLI::App& app, CameraOverride& camera) {
   add_vec3_option(app, "--up", camera.up, "Camera up vector");
   app.add_option_function<float>(
          "--fov", [&camera](float v) { camera.fov_degrees = v; }, "Vertical field of view in degrees")
-      ->check(CLI::Range(0.01f, 179.0f));
+      ->check(kFinite & CLI::Range(0.01f, 179.0f));
+}
+
+// Parses "WxH" with both in [1, 16384]; digits only (no sign, no overflow: from_chars checks the range).
+bool parse_size(const std::string& text, int& width, int& height) {
+  const size_t x = text.find_first_of("xX");
+  if (x == std::string::npos) return false;
+  auto number = [](const char* first, const char* last, int& out) {
+    if (first == last || *first < '0' || *first > '9') return false;
+    const auto [end, error] = std::from_chars(first, last, out);
+    return error == std::errc() && end == last && out >= 1 && out <= 16384;
+  };
+  return number(text.data(), text.data() + x, width) && number(text.data() + x + 1, text.data() + text.size(), height);
 }
 
 void add_size_option(CLI::App& app, int& width, int& height) {
@@ -61,15 +85,24 @@ void add_size_option(CLI::App& app, int& width, int& height) {
          "--size",
          [&width, &height](const std::string& text) {
            int w = 0, h = 0;
-           char x = 0, extra = 0;
-           if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 ||
-               h < 1 || w > 16384 || h > 16384)
+           if (!parse_size(text, w, h))
              throw CLI::ValidationError("--size", "expected WxH with 1..16384, got '" + text + "'");
            width = w;
            height = h;
          },
          "Image size, e.g. 512x512")
       ->type_name("WxH");
+}
+
+
+void add_memory_limit_option(CLI::App& app, uint64_t& limit_bytes) {
+  app.add_option_function<double>(
+         "--memory-limit",
+         [&limit_bytes](double gib) { limit_bytes = uint64_t(gib * double(uint64_t(1) << 30)); },
+         "Refuse work estimated to need more memory than this many GiB (default " +
+             std::to_string(epi::kDefaultMemoryLimit >> 30) + "; docs/reliability.md)")
+      ->check(kFinite & CLI::Range(0.001, 1e6))
+      ->type_name("GIB");
 }
 
 }  // namespace
@@ -84,6 +117,7 @@ int main(int argc, char** argv) {
   info_cmd->add_option("scene", info.scene, "glTF 2.0 scene (.gltf or .glb)")->required();
   info_cmd->add_option("--subdiv-level", info.subdiv_level, "Override the subdivision level of every subdivided mesh")
       ->check(CLI::Range(0, 8));
+  add_memory_limit_option(*info_cmd, info.memory_limit);
 
   RenderOptions render;
   CLI::App* render_cmd = app.add_subcommand(
@@ -102,7 +136,7 @@ int main(int argc, char** argv) {
                        "Shade exactly the sample budget inside every frame: the same bytes for the same seed. Default: "
                        "asynchronous, as interactively (the shader runs beside the frame loop; timing-dependent)");
   render_cmd->add_option("--sample-budget", render.sample_budget, "Fraction of the pixels shaded per frame")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(kFinite & CLI::Range(0.0, 1.0))
       ->capture_default_str();
   render_cmd->add_option("--camera-path", render.camera_path, "Camera keys per frame (docs/camera-path.md)");
   render_cmd->add_option("--frames-out", render.frames_out, "Write every frame, e.g. frames/f%04d.png");
@@ -127,7 +161,7 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--exposure", render.exposure,
                          "Exposure in stops for 8-bit outputs (.png): linear * 2^stops, then a highlight shoulder above "
                          "0.8 that keeps hue, then sRGB. EXR is written linear, untouched")
-      ->check(CLI::Range(-32.0f, 32.0f))
+      ->check(kFinite & CLI::Range(-32.0f, 32.0f))
       ->capture_default_str();
   render_cmd->add_option("--area-light-samples", render.shading.area_light_samples, "Shadow rays to area lights per hit")
       ->check(CLI::Range(1, 4096))
@@ -152,6 +186,7 @@ int main(int argc, char** argv) {
   render_cmd->add_flag("--quiet", render.quiet, "No progress bar, no repair report");
   render_cmd->add_option("--subdiv-level", render.subdiv_level, "Override the subdivision level")->check(CLI::Range(0, 8));
   add_camera_options(*render_cmd, render.camera);
+  add_memory_limit_option(*render_cmd, render.memory_limit);
 
 #ifdef EPI_WITH_RECONSTRUCT
   ReconstructOptions reconstruct;
@@ -159,7 +194,7 @@ int main(int argc, char** argv) {
       app.add_subcommand("reconstruct", "2D harness: sample a polygon pattern sparsely and reconstruct it with the EPI filters");
   reconstruct_cmd->add_option("pattern", reconstruct.pattern, "PATTERN.json (polygons in pixel units)")->required();
   reconstruct_cmd->add_option("--density", reconstruct.density, "Fraction of pixels that get one sample")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(kFinite & CLI::Range(0.0, 1.0))
       ->capture_default_str();
   reconstruct_cmd->add_option("--filter", reconstruct.filter, "epi: edge-respecting; rendercache: the render cache's")
       ->check(CLI::IsMember({"epi", "rendercache"}))
@@ -171,6 +206,7 @@ int main(int argc, char** argv) {
   reconstruct_cmd->add_option("--stats", reconstruct.stats, "Write timings and pixel classes as JSON");
   reconstruct_cmd->add_option("--threads", reconstruct.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
   reconstruct_cmd->add_flag("--quiet", reconstruct.quiet, "No progress output");
+  add_memory_limit_option(*reconstruct_cmd, reconstruct.memory_limit);
 #endif
 
 #ifdef EPI_WITH_EDGES
@@ -184,6 +220,7 @@ int main(int argc, char** argv) {
   edges_cmd->add_option("--stats", edges.stats, "Counts by kind and timings as JSON");
   edges_cmd->add_option("--subdiv-level", edges.subdiv_level, "Override the subdivision level")->check(CLI::Range(0, 8));
   edges_cmd->add_option("--threads", edges.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
+  add_memory_limit_option(*edges_cmd, edges.memory_limit);
 #endif
 
   try {
