@@ -49,7 +49,7 @@ for stage in $stages; do
       # Only what runs threads of epi's own against each other: the asynchronous shader service
       # and the frame loop that consumes it.
       configure build-tsan "-fsanitize=thread"
-      cmake --build "$root/build-tsan" -j "$jobs" --target shade_tests render_tests
+      cmake --build "$root/build-tsan" -j "$jobs" --target shade_tests render_tests render_soak_test
       ctest --test-dir "$root/build-tsan" --output-on-failure -j "$jobs" -R "$tsan_tests"
       ;;
     *) echo "test.sh: unknown stage '$stage' (release, asan, tsan)" >&2; exit 2 ;;

@@ -171,3 +171,40 @@ TEST(Reliability, PatternProblemsNameTheFileInEpisWords) {
   expect_one_line_failure(run_epi("reconstruct " + folder.string() + " -o " + scratch("o.exr").string()),
                           folder.string() + ": is a folder, not a pattern file");
 }
+
+// ---------------------------------------------------------------------------------------------
+// --sync: the same bytes across runs and thread counts, for every render mode.
+
+TEST(Reliability, SyncRendersAreBitIdenticalAcrossRunsAndThreadCounts) {
+  const std::string chains = std::string(EPI_SOURCE_DIR) + "/scenes/chains.gltf";
+  const fs::path path = scratch("moving.txt");  // camera, object and light all move
+  std::ofstream(path) << "camera 0 eye 0 1.5 4 target 0 0.4 0\ncamera 5 eye 2 1.2 3 target 0 0.4 0\n"
+                         "object 0 red_chain_0 translate 0 0 0\nobject 5 red_chain_0 translate 0.3 0 0.1\n"
+                         "light 0 point translate 0 0 0\nlight 5 point translate -0.4 0.1 0.3\n";
+  struct Mode {
+    const char* mode;
+    std::string extra;
+  };
+  const Mode modes[] = {{"epi", " --frames 6 --camera-path " + path.string()},
+                        {"rendercache", " --frames 6 --camera-path " + path.string()},
+                        {"epi", " --frames 4 --shader glossy --glossy-samples 2"},
+                        {"raytrace", ""},
+                        {"reference", " --spp 2 --shader gi --gi-paths 1"}};
+  for (const Mode& m : modes) {
+    SCOPED_TRACE(std::string(m.mode) + m.extra);
+    std::string first;
+    int run_index = 0;
+    for (const char* threads : {"1", "2", "3", "2"}) {  // 2 twice: the same thread count, run again
+      const fs::path out = scratch("sync" + std::to_string(run_index++) + ".exr");
+      const EpiRun run = run_epi("render " + chains + " --mode " + m.mode + m.extra +
+                                 " --sync --seed 9 --size 40x32 --sample-budget 0.05 --area-light-samples 2 --quiet "
+                                 "--threads " + threads + " -o " + out.string());
+      ASSERT_EXIT_CODE(run, 0);
+      std::ifstream in(out, std::ios::binary);
+      const std::string bytes{std::istreambuf_iterator<char>(in), {}};
+      ASSERT_GT(bytes.size(), 500u);
+      if (first.empty()) first = bytes;
+      else EXPECT_TRUE(bytes == first) << "--threads " << threads << " gives other bytes than --threads 1";
+    }
+  }
+}
