@@ -236,7 +236,7 @@ TEST(Malformed, BufferProblems) {
   auto bin = b.bin;
   bin.resize(bin.size() / 2);
   GltfBuilder::write_bytes(dir / "buf.bin", bin);
-  expect_error(file, "size mismatch");
+  expect_error(file, "buffers[0]: byteLength 120 but 'buf.bin' holds 60 bytes");
   // Missing .bin file.
   std::filesystem::remove(dir / "buf.bin");
   expect_error(file, "buf.bin");
@@ -248,11 +248,11 @@ TEST(Malformed, BufferProblems) {
   // A data: URI holding fewer bytes than byteLength.
   doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + GltfBuilder::base64({1, 2, 3, 4});
   GltfBuilder::write_text(dir / "shortdata.gltf", doc.dump());
-  expect_error(dir / "shortdata.gltf", "uri");
+  expect_error(dir / "shortdata.gltf", "buffers[0]: byteLength 120 but its data: URI holds 4 bytes");
   // A long bad data: URI is not quoted whole.
   doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + std::string(100000, 'A');
   GltfBuilder::write_text(dir / "longdata.gltf", doc.dump());
-  expect_error(dir / "longdata.gltf", "...");
+  EXPECT_NE(load_error(dir / "longdata.gltf"), "");
   EXPECT_LT(load_error(dir / "longdata.gltf").size(), 600u);
   // The buffer is not found through the working directory either.
   const auto cwd = std::filesystem::current_path();
