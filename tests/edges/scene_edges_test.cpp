@@ -134,32 +134,6 @@ TEST(Triples, BlockerIsItsOwnReceiverAndFarObjectsAreLeftOut) {
 // events skip receivers whose sphere misses their plane; both must find exactly what testing every
 // pair finds, and the work must grow near-linearly on a spread-out scene.
 
-glm::mat4 translation(glm::vec3 p) {
-  glm::mat4 m(1.0f);
-  m[3] = glm::vec4(p, 1.0f);
-  return m;
-}
-
-// n boxes on a floor, spaced 3 apart, under a point light and a slanted sun.
-Scene boxes_on_a_floor(int n) {
-  Scene scene;
-  scene.meshes = {test::box({-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f})};
-  const int side = int(std::ceil(std::sqrt(double(n))));
-  scene.meshes.push_back(test::box({-1.5f * side - 2, -0.2f, -1.5f * side - 2}, {1.5f * side + 2, 0.0f, 1.5f * side + 2}));
-  scene.objects.push_back({"floor", 1, glm::mat4(1.0f)});
-  for (int i = 0; i < n; ++i)
-    scene.objects.push_back({"box" + std::to_string(i), 0,
-                             translation({3.0f * float(i % side) - 1.5f * side, 0.0f, 3.0f * float(i / side) - 1.5f * side})});
-  PunctualLight lamp;
-  lamp.position = {0.5f, 60.0f, 0.25f};
-  scene.punctual_lights.push_back(lamp);
-  PunctualLight sun;
-  sun.type = LightType::directional;
-  sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
-  scene.punctual_lights.push_back(sun);
-  return scene;
-}
-
 TEST(Triples, TheHierarchyFindsWhatTestingEveryPairFinds) {
   std::mt19937 rng(14);
   std::uniform_real_distribution<float> u(-10.0f, 10.0f), size(0.1f, 2.0f);
@@ -169,7 +143,7 @@ TEST(Triples, TheHierarchyFindsWhatTestingEveryPairFinds) {
     scene.meshes = {test::uv_sphere(4, 8, 1.0f)};
     const int n = 5 + trial * 7;
     for (int i = 0; i < n; ++i) {
-      glm::mat4 m = translation({u(rng), u(rng), u(rng)});
+      glm::mat4 m = test::translation({u(rng), u(rng), u(rng)});
       m[0][0] = m[1][1] = m[2][2] = size(rng);
       scene.objects.push_back({"o" + std::to_string(i), 0, m});
     }
@@ -215,7 +189,7 @@ TEST(Triples, TheHierarchyFindsWhatTestingEveryPairFinds) {
 
 TEST(Triples, WorkGrowsNearLinearlyWithSpreadOutObjects) {
   // 4x the objects: testing every pair is 16x the sphere tests; the hierarchy stays under 6x.
-  const Scene small = boxes_on_a_floor(100), large = boxes_on_a_floor(400);
+  const Scene small = test::boxes_on_a_floor(100), large = test::boxes_on_a_floor(400);
   SceneEdgeFinder small_finder(small), large_finder(large);
   const auto small_triples = small_finder.find_triples(small), large_triples = large_finder.find_triples(large);
   EXPECT_LT(double(small_finder.triple_tests()), 0.5 * 2.0 * 101.0 * 101.0);
@@ -233,7 +207,7 @@ TEST(Triples, WorkGrowsNearLinearlyWithSpreadOutObjects) {
 
 TEST(Triples, SkippingReceiversWhosePlaneMissesChangesNoEdge) {
   // The same scene with the culling defeated (infinite receiver spheres) gives the same edges.
-  const Scene scene = boxes_on_a_floor(16);
+  const Scene scene = test::boxes_on_a_floor(16);
   SceneEdgeFinder finder(scene);
   const auto triples = finder.find_triples(scene);
   std::vector<SceneEdge> culled;
