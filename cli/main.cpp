@@ -41,8 +41,7 @@ bool parse_vec3(const std::string& text, glm::vec3& out) {
 // CLI::Range lets NaN through (every comparison with it is false): numbers must be finite too.
 const CLI::Validator kFinite(
     [](std::string& text) {
-      char* end = nullptr;
-      const double v = std::strtod(text.c_str(), &end);
+      const double v = std::strtod(text.c_str(), nullptr);
       return std::isfinite(v) ? std::string() : "expected a finite number, got '" + text + "'";
     },
     "FINITE");
@@ -93,7 +92,6 @@ void add_size_option(CLI::App& app, int& width, int& height) {
          "Image size, e.g. 512x512")
       ->type_name("WxH");
 }
-
 
 void add_memory_limit_option(CLI::App& app, uint64_t& limit_bytes) {
   app.add_option_function<double>(
