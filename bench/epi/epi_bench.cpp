@@ -35,6 +35,7 @@ struct Frame {
   Pattern pattern;
   std::vector<Segment> edges;
   BoundaryMasks masks;
+  EpiImage input;     // as sampled: the reconstruction's input
   EpiImage epi;       // classified, with reachability
   RgbImage interpolated;          // render cache colours (input of anti-aliasing and complex)
   RgbImage primary;               // EPI interpolation (input of the fill step)
@@ -94,7 +95,9 @@ Frame& frame(int w, int h) {
     f->epi = EpiImage(w, h);
     sample_pattern(f->pattern, kDensity, 7, f->epi);
     f->interpolated = reconstruct_oracle(f->epi, f->masks, {Filter::rendercache, false, false}).image;
-    reconstruct_oracle(f->epi, f->masks, {});
+    f->input = f->epi;
+    const Reconstruction classified = reconstruct_oracle(f->epi, f->masks, {});
+    f->epi.edge = classified.edge, f->epi.cache = classified.cache;  // the classified planes, for the stage benches
     f->types.resize(size_t(w) * h);
     for (size_t i = 0; i < f->types.size(); ++i) f->types[i] = uint8_t(pixel_type(f->epi.cache[i]));
     f->primary = RgbImage(w, h);
@@ -161,7 +164,7 @@ void BM_Rasterize(benchmark::State& state) {
 
 void BM_Classify(benchmark::State& state) {
   Frame& f = frame(int(state.range(0)), int(state.range(1)));
-  EpiImage epi = f.epi;
+  EpiImage epi = f.input;
   timed(state, f, [&] { run_rows(int(state.range(2)), epi.height, [&](int y0, int y1) { classify_rows(epi, f.masks, y0, y1); }); });
 }
 
@@ -273,12 +276,12 @@ void BM_RenderCache(benchmark::State& state) {
 // The whole reconstruction: reconstruct_oracle vs reconstruct_tiled (same result, bit for bit).
 void BM_Reconstruct(benchmark::State& state) {
   Frame& f = frame(int(state.range(0)), int(state.range(1)));
-  EpiImage epi = f.epi;
   const int threads = int(state.range(2));
   Reconstruction r;
+  Reconstructor reconstructor;
   timed(state, f, [&] {
-    if (threads == 0) r = reconstruct_oracle(epi, f.masks, {});
-    else reconstruct_tiled(epi, f.masks, {}, {64, threads}, r);
+    if (threads == 0) reconstructor.oracle(f.input, f.masks, {}, r);
+    else reconstructor.tiled(f.input, f.masks, {}, {64, threads}, r);
     benchmark::DoNotOptimize(r.image.pixels.data());
   });
 }
@@ -286,10 +289,10 @@ void BM_Reconstruct(benchmark::State& state) {
 // The band height of the schedule, 1920x1080, 2 threads.
 void BM_ReconstructBandRows(benchmark::State& state) {
   Frame& f = frame(1920, 1080);
-  EpiImage epi = f.epi;
   Reconstruction r;
+  Reconstructor reconstructor;
   timed(state, f, [&] {
-    reconstruct_tiled(epi, f.masks, {}, {int(state.range(0)), 2}, r);
+    reconstructor.tiled(f.input, f.masks, {}, {int(state.range(0)), 2}, r);
     benchmark::DoNotOptimize(r.image.pixels.data());
   }, false);
   state.SetLabel("rows_per_band " + std::to_string(state.range(0)));

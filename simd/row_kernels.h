@@ -1,0 +1,47 @@
+// The Highway row kernels of the reconstruction filters, one table per compiled target
+// (dynamic dispatch: the Reconstructor picks a table once, never per row). Each kernel
+// computes one row of a stage exactly as the per-pixel oracle in core/epi does, bit for bit;
+// tests/simd runs every compiled target against it. docs/epi.md, "SIMD kernels".
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+namespace epi::simd {
+
+// One row of interpolation (interpolate.h: the 5x5 kernel-weighted mean of the reachable
+// usable samples; complex pixels: of every sample) over decoded, padded rows: row k of each
+// array is image row y - 2 + k, pixel x of it at index x + kPad; the kPad pixels on the left,
+// at least one vector's worth on the right and rows outside the image hold zeros (no sample).
+constexpr int kPad = 2;
+struct InterpolateRow {
+  int width;
+  const float* red[5];      // linear colour, decoded once per row
+  const float* green[5];
+  const float* blue[5];
+  const float* usable[5];   // 1: the pixel holds a usable sample, else 0
+  const float* sampled[5];  // 1: the pixel holds a sample, else 0
+  // The row's own pixels (width each, no padding): types, 24-bit reach masks, sample words (age).
+  const uint8_t* types;
+  const uint32_t* reach;
+  const uint32_t* color;
+  // Outputs, width each: colours (3 floats per pixel), total weight (0: nothing reached; the
+  // colour and priority are then the caller's: the oracle's fallback), priority.
+  float* rgb;
+  float* total;
+  float* priority;
+};
+
+struct RowKernels {
+  const char* target_name;
+  int64_t target;  // the HWY_* bit
+  void (*interpolate)(const InterpolateRow& row);
+};
+
+// The table of one target; 0: the best this CPU runs. Throws std::invalid_argument for a
+// target that is not compiled or not supported here.
+const RowKernels& row_kernels(int64_t target = 0);
+// The targets compiled in and supported by this CPU, best first (e.g. AVX3, AVX2, SSE4, scalar).
+std::vector<int64_t> compiled_targets();
+
+}  // namespace epi::simd
