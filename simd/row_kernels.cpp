@@ -10,13 +10,14 @@
 #include <hwy/highway.h>
 
 #include "simd/interpolate-inl.h"
+#include "simd/reachability-inl.h"
 
 HWY_BEFORE_NAMESPACE();
 namespace epi::simd {
 namespace HWY_NAMESPACE {
 
 const RowKernels* KernelTable() {
-  static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel};
+  static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel, &ReachRowKernel};
   return &table;
 }
 

@@ -32,10 +32,30 @@ struct InterpolateRow {
   float* priority;
 };
 
+// One row of reachability (reachability.h: the 24-bit primary-to-primary masks of the 5x5)
+// over padded rows of side words, row k = image row y - 2 + k, pixel x at x + kPad: bits 2s-2s+1
+// the descriptor of what the pixel shows on its side s (0 top, 1 right, 2 bottom, 3 left; 0 the
+// primary region whole, 1 the secondary whole, 2 the primary before the crossing and the
+// secondary after, 3 the reverse), kSideBlocked for complex pixels and pixels outside the image
+// (padding, rows outside), kSideNonEmpty for every pixel but an empty one.
+constexpr uint32_t kSideBlocked = 1u << 8, kSideNonEmpty = 1u << 9;
+struct ReachRow {
+  int width;
+  const uint32_t* sides[5];
+  // The neighbour relation of descriptors (a, b), 4 bits at 4 (4a + b): entries 0-7 in lo, 8-15 in hi.
+  uint32_t relation_lo, relation_hi;
+  uint32_t* reach;  // out, width masks
+  // The masks of rows y - 1 and y - 2, padded like the side words (zeros outside the image), or
+  // nullptr: then all 24 offsets are computed, else the 14 forward ones and the other 10 from
+  // these rows by symmetry (docs/epi.md, "Reachability reused across rows").
+  const uint32_t* above[2];
+};
+
 struct RowKernels {
   const char* target_name;
   int64_t target;  // the HWY_* bit
   void (*interpolate)(const InterpolateRow& row);
+  void (*reachability)(const ReachRow& row);
 };
 
 // The table of one target; 0: the best this CPU runs. Throws std::invalid_argument for a

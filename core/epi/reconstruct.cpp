@@ -19,6 +19,7 @@
 #include "epi/interpolate.h"
 #include "epi/reachability.h"
 #include "epi/rendercache.h"
+#include "epi/tables.h"
 #include "simd/row_kernels.h"
 
 namespace epi {
@@ -65,12 +66,56 @@ struct RowPlane {
 size_t samples_plane(int w) { return size_t(w) + 2 * simd::kPad + 64; }
 size_t samples_stride(int w) { return 5 * samples_plane(w); }
 
+// Side words (simd::ReachRow) by pixel type, and the relation of side descriptors, both from
+// the same regions_on_side that generates the oracle's neighbour table (tables.cpp).
+constexpr uint32_t kOutsideSides = simd::kSideBlocked | simd::kSideNonEmpty;
+struct SideTables {
+  uint32_t word[16];
+  uint32_t relation_lo = 0, relation_hi = 0;
+};
+const SideTables& side_tables() {
+  static const SideTables tables = [] {
+    SideTables t{};
+    for (int type = 0; type < 16; ++type) {
+      uint32_t word = type == kTypeEmpty ? 0 : simd::kSideNonEmpty;
+      for (int side = 0; side < 4; ++side) {
+        int regions[2], parts[2];
+        const int n = regions_on_side(type, side, regions, parts);
+        if (n == 0) word |= simd::kSideBlocked;  // complex (and the unused types)
+        const uint32_t descriptor = n == 2 ? (parts[regions[0] == 0 ? 0 : 1] == 1 ? 2u : 3u) : n == 1 ? uint32_t(regions[0]) : 0u;
+        word |= descriptor << (2 * side);
+      }
+      t.word[type] = word;
+    }
+    // Descriptor d as (region, part) pairs; part 0 whole, 1 before the crossing, 2 after.
+    auto pairs = [](int d, int regions[2], int parts[2]) {
+      if (d < 2) return regions[0] = d, parts[0] = 0, 1;
+      regions[0] = 0, parts[0] = d == 2 ? 1 : 2, regions[1] = 1, parts[1] = d == 2 ? 2 : 1;
+      return 2;
+    };
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) {
+        int ra[2], pa[2], rb[2], pb[2];
+        const int na = pairs(a, ra, pa), nb = pairs(b, rb, pb);
+        uint32_t mask = 0;
+        for (int i = 0; i < na; ++i)
+          for (int k = 0; k < nb; ++k)
+            if (pa[i] == 0 || pb[k] == 0 || pa[i] != pb[k]) mask |= 1u << (ra[i] * 2 + rb[k]);
+        const int index = 4 * a + b;
+        (index < 8 ? t.relation_lo : t.relation_hi) |= mask << (4 * (index & 7));
+      }
+    return t;
+  }();
+  return tables;
+}
+
 // Storage for a set of planes: whole-image (rows = height) or rings (rows per plane from stages.h).
 struct PlaneStore {
   std::vector<uint16_t> edge;
   std::vector<uint8_t> types, found;
   std::vector<uint32_t> reach;
   std::vector<float> interp, filled, samples, zero_samples;
+  std::vector<uint32_t> sides, outside_sides;
   int width = -1, rows_of_class = 0, rows_of_reach = 0, rows_of_interp = 0, rows_of_filled = 0;
   void resize(int w, int class_rows, int reach_rows, int interp_rows, int filled_rows) {
     if (w == width && class_rows == rows_of_class && reach_rows == rows_of_reach && interp_rows == rows_of_interp &&
@@ -79,10 +124,13 @@ struct PlaneStore {
     width = w, rows_of_class = class_rows, rows_of_reach = reach_rows, rows_of_interp = interp_rows, rows_of_filled = filled_rows;
     const size_t n = size_t(w);
     edge.assign(n * size_t(class_rows), 0), types.assign(n * size_t(class_rows), 0);
-    reach.assign(n * size_t(reach_rows), 0);
+    reach.assign(samples_plane(w) * size_t(reach_rows), 0);  // padded: zeros outside the image
     found.assign(n * size_t(interp_rows), 0), interp.assign(3 * n * size_t(interp_rows), 0.0f);
     filled.assign(3 * n * size_t(filled_rows), 0.0f);
     samples.assign(samples_stride(w) * size_t(class_rows), 0.0f), zero_samples.assign(samples_stride(w), 0.0f);
+    // Pads and rows outside the image read as outside (blocked); decoding writes only the pixels.
+    sides.assign(samples_plane(w) * size_t(class_rows), kOutsideSides);
+    outside_sides.assign(samples_plane(w), kOutsideSides);
   }
 };
 
@@ -98,14 +146,15 @@ struct RowJob {
   RowPlane<uint8_t> types, found;
   RowPlane<uint32_t> reach;
   RowPlane<float> interp, filled, image, samples;
+  RowPlane<uint32_t> sides;
   // Rows written to `out` (edge words, cache words, priority; the image rows are the only ones
   // the output stages compute); other rows are halo, recomputed by the neighbouring band.
   int own_first, own_last;
   ClassCounts* counts;            // of owned rows
   float* priority_scratch;        // priority of halo rows (discarded), width floats
-  uint8_t* reach_scratch;         // width + 4 bytes (reach_row)
   float* total_scratch;           // width floats (the interpolation kernel's weights)
   const float* zero_samples;      // a decoded row of zeros (rows outside the image)
+  const uint32_t* outside_sides;  // a row of side words outside the image
   int stage_first = 0;            // first row of this stage in the current run (reach reuse)
   bool reuse_reach = false;       // reach may take the rows above by symmetry (not in the oracle)
 
@@ -126,12 +175,14 @@ void classify_stage(RowJob& j, int y) {
   for (int x = 0; x < j.width; ++x) cache[x] = uint32_t(types[x]) << bits::kTypeShift;
 }
 
-bool vector_interpolation(const RowJob& j) {
-  return j.kernels && j.kernels->interpolate && j.settings.filter == Filter::epi;
-}
+bool vector_kernels(const RowJob& j) { return j.kernels && j.settings.filter == Filter::epi; }
 
 void decode_stage(RowJob& j, int y) {
-  if (!vector_interpolation(j)) return;
+  if (!vector_kernels(j)) return;
+  const SideTables& tables = side_tables();
+  uint32_t* sides = j.sides.row(y) + simd::kPad;
+  const uint8_t* types = j.types.row(y);
+  for (int x = 0; x < j.width; ++x) sides[x] = tables.word[types[x]];
   const size_t plane = samples_plane(j.width);
   float* red = j.samples.row(y) + simd::kPad;
   float *green = red + plane, *blue = green + plane, *usable = blue + plane, *sampled = usable + plane;
@@ -153,12 +204,14 @@ void reachability_stage(RowJob& j, int y) {
     return;
   }
   const TypeRows types{j.types.data, j.width, j.height, j.types.mask};
-  if (!j.kernels) {
+  if (j.kernels) {
+    const SideTables& tables = side_tables();
+    simd::ReachRow row{j.width, {}, tables.relation_lo, tables.relation_hi, reach, {}};
+    for (int k = 0; k < 5; ++k) row.sides[k] = j.inside(y - 2 + k) ? j.sides.row(y - 2 + k) : j.outside_sides;
+    if (j.reuse_reach && y - 2 >= j.stage_first) row.above[0] = j.reach.row(y - 1), row.above[1] = j.reach.row(y - 2);
+    j.kernels->reachability(row);
+  } else {
     for (int x = 0; x < j.width; ++x) reach[x] = reach_full(types, x, y);
-  } else {  // windows of empty pixels skipped; the rows above give half the mask by symmetry
-    const bool reuse = j.reuse_reach && y - 2 >= j.stage_first;
-    reach_row(types, y, reuse ? j.reach.row(y - 1) : nullptr, reuse ? j.reach.row(y - 2) : nullptr, reach,
-              j.reach_scratch);
   }
   if (j.owned(y)) {
     uint32_t* cache = &j.out.cache[size_t(y) * size_t(j.width)];
@@ -172,7 +225,7 @@ void interpolate_stage(RowJob& j, int y) {
   float* colors = j.interp.row(y);
   uint8_t* found = j.found.row(y);
   float* priority = j.owned(y) ? &j.out.priority[size_t(y) * size_t(j.width)] : j.priority_scratch;
-  if (!vector_interpolation(j)) {
+  if (!vector_kernels(j)) {
     for (int x = 0; x < j.width; ++x) priority[x] = interpolate(rows, j.settings, x, y, reach[x], colors + 3 * x, found + x);
     return;
   }
@@ -245,11 +298,10 @@ void run_stage_row(Stage s, RowJob& j, int y) { kStageRows[size_t(s)](j, y); }
 struct ThreadScratch {
   PlaneStore rings;
   std::vector<float> priority, total;
-  std::vector<uint8_t> reach;
   void resize(int w) {
     static_assert(ring_rows(Plane::samples) <= kClassRingRows, "decoded rows live in rings of the classified rows' size");
     rings.resize(w, kClassRingRows, ring_rows(Plane::reach), ring_rows(Plane::interp), ring_rows(Plane::filled));
-    priority.resize(size_t(w)), total.resize(size_t(w)), reach.resize(size_t(w) + 4);
+    priority.resize(size_t(w)), total.resize(size_t(w));
   }
 };
 
@@ -297,14 +349,15 @@ namespace {
 // A RowJob over whole-image planes (rows = height): the oracle's and the staged schedule's.
 RowJob whole_image_job(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
                        const simd::RowKernels* kernels, Reconstruction& r, PlaneStore& whole, ClassCounts* counts,
-                       float* priority_scratch, uint8_t* reach_scratch, float* total_scratch) {
+                       float* priority_scratch, float* total_scratch) {
   const int w = epi.width, h = epi.height;
   const size_t n = size_t(w);
   return RowJob{epi, masks, s, kernels, r, w, h,
-                {r.edge.data(), n}, {whole.types.data(), n}, {whole.found.data(), n}, {whole.reach.data(), n},
+                {r.edge.data(), n}, {whole.types.data(), n}, {whole.found.data(), n},
+                {whole.reach.data() + simd::kPad, samples_plane(w)},
                 {whole.interp.data(), 3 * n}, {whole.filled.data(), 3 * n}, {r.image.pixels.data(), 3 * n},
-                {whole.samples.data(), samples_stride(w)}, 0, h - 1, counts, priority_scratch, reach_scratch,
-                total_scratch, whole.zero_samples.data()};
+                {whole.samples.data(), samples_stride(w)}, {whole.sides.data(), samples_plane(w)}, 0, h - 1, counts,
+                priority_scratch, total_scratch, whole.zero_samples.data(), whole.outside_sides.data()};
 }
 
 }  // namespace
@@ -314,8 +367,7 @@ void Reconstructor::oracle(const EpiImage& epi, const BoundaryMasks& masks, cons
   prepare_output(epi, masks, r);
   const int w = epi.width, h = epi.height;
   scratch_->whole.resize(w, h, h, h, h);
-  std::vector<uint8_t> reach_scratch(size_t(w) + 4);
-  RowJob job = whole_image_job(epi, masks, s, nullptr, r, scratch_->whole, &r.counts, nullptr, reach_scratch.data(), nullptr);
+  RowJob job = whole_image_job(epi, masks, s, nullptr, r, scratch_->whole, &r.counts, nullptr, nullptr);
   for (const StageInfo& stage : kStages)
     for (int y = 0; y < h; ++y) run_stage_row(stage.stage, job, y);
 }
@@ -333,7 +385,7 @@ void Reconstructor::staged(const EpiImage& epi, const BoundaryMasks& masks, cons
         ThreadScratch& local = scratch_->threads.local();
         local.resize(w);
         RowJob job = whole_image_job(epi, masks, s, kernels_, r, scratch_->whole, &counts.local(), nullptr,
-                                     local.reach.data(), local.total.data());
+                                     local.total.data());
         job.stage_first = range.begin(), job.reuse_reach = true;
         for (int y = range.begin(); y != range.end(); ++y) run_stage_row(stage.stage, job, y);
       });
@@ -375,11 +427,13 @@ void Reconstructor::tiled(const EpiImage& epi, const BoundaryMasks& masks, const
     const size_t n = size_t(w);
     RowJob job{epi, masks, s, kernels_, r, w, h,
                {ring.edge.data(), n, kClassRingRows - 1}, {ring.types.data(), n, kClassRingRows - 1},
-               {ring.found.data(), n, ring_rows(Plane::interp) - 1}, {ring.reach.data(), n, ring_rows(Plane::reach) - 1},
+               {ring.found.data(), n, ring_rows(Plane::interp) - 1},
+               {ring.reach.data() + simd::kPad, samples_plane(w), ring_rows(Plane::reach) - 1},
                {ring.interp.data(), 3 * n, ring_rows(Plane::interp) - 1}, {ring.filled.data(), 3 * n, ring_rows(Plane::filled) - 1},
                {r.image.pixels.data(), 3 * n}, {ring.samples.data(), samples_stride(w), kClassRingRows - 1},
-               y0, y1 - 1, &band_counts[size_t(b)], local.priority.data(), local.reach.data(), local.total.data(),
-               ring.zero_samples.data()};
+               {ring.sides.data(), samples_plane(w), kClassRingRows - 1},
+               y0, y1 - 1, &band_counts[size_t(b)], local.priority.data(), local.total.data(),
+               ring.zero_samples.data(), ring.outside_sides.data()};
     job.reuse_reach = true;
     job.stage_first = first[size_t(Stage::reachability)];
     const int classified_first = first[size_t(Stage::classify)];

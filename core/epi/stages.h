@@ -14,7 +14,7 @@ namespace epi {
 enum class Plane : int {
   edge,    // classified edge words (uint16: code, usable bit, sample bits)
   types,   // pixel types (uint8)
-  samples, // samples decoded for the row kernels: linear colour planes, usable and sampled flags (floats)
+  samples, // decoded for the row kernels: linear colour planes, usable and sampled flags, side words
   reach,   // 24-bit reach masks (uint32)
   interp,  // interpolated primary colours (3 floats) and found flags (uint8)
   filled,  // primary colours after the fill step (3 floats)
@@ -47,8 +47,9 @@ struct StageInfo {
 inline constexpr std::array<StageInfo, kStageCount> kStages = {{
     {Stage::classify, "classify", "classify.cpp", "1x1", Plane::edge, {}, 0},
     // Colours to linear planes once per row, for the vector kernels (nothing for the oracle).
-    {Stage::decode, "decode", "reconstruct.cpp", "1x1", Plane::samples, {{{Plane::edge, 0}}}, 1},
-    {Stage::reachability, "reachability", "reachability.cpp", "5x5", Plane::reach, {{{Plane::types, 2}}}, 1},
+    {Stage::decode, "decode", "reconstruct.cpp", "1x1", Plane::samples, {{{Plane::edge, 0}, {Plane::types, 0}}}, 2},
+    {Stage::reachability, "reachability", "reachability.cpp", "5x5", Plane::reach,
+     {{{Plane::types, 2}, {Plane::samples, 2}}}, 2},
     // 7x7 types and edge words for the fallback (reach_window7), the own reach mask.
     {Stage::interpolate, "interpolate", "interpolate.cpp", "5x5 (7x7 fallback)", Plane::interp,
      {{{Plane::types, 3}, {Plane::edge, 3}, {Plane::reach, 0}, {Plane::samples, 2}}}, 4},
