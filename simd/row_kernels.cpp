@@ -9,6 +9,7 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include "simd/classify-inl.h"
 #include "simd/interpolate-inl.h"
 #include "simd/reachability-inl.h"
 
@@ -17,7 +18,7 @@ namespace epi::simd {
 namespace HWY_NAMESPACE {
 
 const RowKernels* KernelTable() {
-  static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel, &ReachRowKernel};
+  static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel, &ReachRowKernel, &ClassifyRowKernel};
   return &table;
 }
 

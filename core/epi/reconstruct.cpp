@@ -168,7 +168,22 @@ void classify_stage(RowJob& j, int y) {
   uint16_t* edge = j.edge.row(y);
   uint8_t* types = j.types.row(y);
   ClassCounts halo;
-  classify_row(j.masks, y, &j.in.edge[i0], edge, types, j.owned(y) ? *j.counts : halo);
+  ClassCounts& counts = j.owned(y) ? *j.counts : halo;
+  if (j.kernels) {
+    const EpiTables& t = epi_tables();
+    static const std::array<uint32_t, 1024> area = [&t] {
+      std::array<uint32_t, 1024> a{};
+      for (size_t k = 0; k < a.size(); ++k) a[k] = t.area_a[k];
+      return a;
+    }();
+    simd::ClassifyRow row{j.width, &j.masks.top[j.masks.index(0, y)], &j.masks.top[j.masks.index(0, y + 1)],
+                          &j.masks.left[j.masks.index(0, y)], &j.in.edge[i0], t.sidedness, area.data(), edge, types, {}};
+    j.kernels->classify(row);
+    counts.empty += row.counts[0], counts.simple += row.counts[1], counts.complex += row.counts[2];
+    counts.samples += row.counts[3], counts.ambiguous += row.counts[4];
+  } else {
+    classify_row(j.masks, y, &j.in.edge[i0], edge, types, counts);
+  }
   if (!j.owned(y)) return;
   if (edge != &j.out.edge[i0]) std::memcpy(&j.out.edge[i0], edge, size_t(j.width) * sizeof(uint16_t));
   uint32_t* cache = &j.out.cache[i0];
