@@ -9,6 +9,7 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include "simd/antialias-inl.h"
 #include "simd/classify-inl.h"
 #include "simd/interpolate-inl.h"
 #include "simd/reachability-inl.h"
@@ -18,7 +19,8 @@ namespace epi::simd {
 namespace HWY_NAMESPACE {
 
 const RowKernels* KernelTable() {
-  static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel, &ReachRowKernel, &ClassifyRowKernel};
+  static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel, &ReachRowKernel, &ClassifyRowKernel,
+                                &AntialiasRowKernel};
   return &table;
 }
 

@@ -67,12 +67,27 @@ struct ClassifyRow {
   int64_t counts[5];           // added to: empty, simple, complex, samples, ambiguous
 };
 
+// One row of anti-aliasing (antialias.h) over the filled primary colours (3 floats per pixel):
+// rows[0..2] rows y - 1, y, y + 1 (nullptr outside the image; all three in one allocation).
+struct AntialiasRow {
+  int width;
+  const float* rows[3];
+  const uint8_t* types;
+  const uint16_t* edge;            // classified edge words (codes)
+  const uint32_t* secondary;       // EpiTables::secondary_neighbour widened, 1024 entries
+  const uint32_t* area;            // EpiTables::area_a widened, 1024 entries
+  const int32_t* neighbour_dx;     // kNeighbourDx, kNeighbourDy (tables.h), padded to 16 entries
+  const int32_t* neighbour_dy;
+  float* out;                      // 3 floats per pixel
+};
+
 struct RowKernels {
   const char* target_name;
   int64_t target;  // the HWY_* bit
   void (*interpolate)(const InterpolateRow& row);
   void (*reachability)(const ReachRow& row);
   void (*classify)(ClassifyRow& row);
+  void (*antialias)(const AntialiasRow& row);
 };
 
 // The table of one target; 0: the best this CPU runs. Throws std::invalid_argument for a

@@ -109,6 +109,22 @@ const SideTables& side_tables() {
   return tables;
 }
 
+// The tables the vector kernels gather from, widened to 32 bits.
+struct WideTables {
+  uint32_t area[1024], secondary[1024];
+  int32_t dx[16], dy[16];
+};
+const WideTables& wide_tables() {
+  static const WideTables tables = [] {
+    const EpiTables& t = epi_tables();
+    WideTables w{};
+    for (int k = 0; k < 1024; ++k) w.area[k] = t.area_a[k], w.secondary[k] = t.secondary_neighbour[k];
+    for (int k = 0; k < 8; ++k) w.dx[k] = kNeighbourDx[k], w.dy[k] = kNeighbourDy[k];
+    return w;
+  }();
+  return tables;
+}
+
 // Storage for a set of planes: whole-image (rows = height) or rings (rows per plane from stages.h).
 struct PlaneStore {
   std::vector<uint16_t> edge;
@@ -170,14 +186,10 @@ void classify_stage(RowJob& j, int y) {
   ClassCounts halo;
   ClassCounts& counts = j.owned(y) ? *j.counts : halo;
   if (j.kernels) {
-    const EpiTables& t = epi_tables();
-    static const std::array<uint32_t, 1024> area = [&t] {
-      std::array<uint32_t, 1024> a{};
-      for (size_t k = 0; k < a.size(); ++k) a[k] = t.area_a[k];
-      return a;
-    }();
+    const WideTables& t = wide_tables();
     simd::ClassifyRow row{j.width, &j.masks.top[j.masks.index(0, y)], &j.masks.top[j.masks.index(0, y + 1)],
-                          &j.masks.left[j.masks.index(0, y)], &j.in.edge[i0], t.sidedness, area.data(), edge, types, {}};
+                          &j.masks.left[j.masks.index(0, y)], &j.in.edge[i0], epi_tables().sidedness, t.area, edge,
+                          types, {}};
     j.kernels->classify(row);
     counts.empty += row.counts[0], counts.simple += row.counts[1], counts.complex += row.counts[2];
     counts.samples += row.counts[3], counts.ambiguous += row.counts[4];
@@ -283,6 +295,11 @@ void antialias_stage(RowJob& j, int y) {
   const EpiRows epi = j.rows();
   const uint8_t* types = j.types.row(y);
   const bool on = j.settings.filter == Filter::epi && j.settings.antialias;
+  if (on && j.kernels) {
+    const WideTables& t = wide_tables();
+    j.kernels->antialias({j.width, {rows[0], rows[1], rows[2]}, types, j.edge.row(y), t.secondary, t.area, t.dx, t.dy, out});
+    return;
+  }
   for (int x = 0; x < j.width; ++x) {
     if (on && type_is_simple(types[x])) {
       antialias_pixel(epi, x, y, rows, out + 3 * x);
