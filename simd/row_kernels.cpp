@@ -11,6 +11,7 @@
 
 #include "simd/antialias-inl.h"
 #include "simd/classify-inl.h"
+#include "simd/decode-inl.h"
 #include "simd/interpolate-inl.h"
 #include "simd/reachability-inl.h"
 
@@ -20,7 +21,7 @@ namespace HWY_NAMESPACE {
 
 const RowKernels* KernelTable() {
   static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel, &ReachRowKernel, &ClassifyRowKernel,
-                                &AntialiasRowKernel};
+                                &AntialiasRowKernel, &DecodeRowKernel};
   return &table;
 }
 

@@ -81,6 +81,20 @@ struct AntialiasRow {
   float* out;                      // 3 floats per pixel
 };
 
+// One classified row decoded for the other kernels: colours to linear light through `lut`
+// (the 256-entry sRGB table), usable and sampled flags as 1 or 0, side words by type. Outputs
+// start at pixel 0 of the padded planes (width entries written, padding untouched).
+struct DecodeRow {
+  int width;
+  const uint16_t* edge;
+  const uint8_t* types;
+  const uint32_t* color;
+  const float* lut;
+  const uint32_t* side_words;  // 16 entries, by type
+  float *red, *green, *blue, *usable, *sampled;
+  uint32_t* sides;
+};
+
 struct RowKernels {
   const char* target_name;
   int64_t target;  // the HWY_* bit
@@ -88,6 +102,7 @@ struct RowKernels {
   void (*reachability)(const ReachRow& row);
   void (*classify)(ClassifyRow& row);
   void (*antialias)(const AntialiasRow& row);
+  void (*decode)(const DecodeRow& row);
 };
 
 // The table of one target; 0: the best this CPU runs. Throws std::invalid_argument for a

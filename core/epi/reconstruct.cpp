@@ -206,22 +206,11 @@ bool vector_kernels(const RowJob& j) { return j.kernels && j.settings.filter == 
 
 void decode_stage(RowJob& j, int y) {
   if (!vector_kernels(j)) return;
-  const SideTables& tables = side_tables();
-  uint32_t* sides = j.sides.row(y) + simd::kPad;
-  const uint8_t* types = j.types.row(y);
-  for (int x = 0; x < j.width; ++x) sides[x] = tables.word[types[x]];
   const size_t plane = samples_plane(j.width);
   float* red = j.samples.row(y) + simd::kPad;
-  float *green = red + plane, *blue = green + plane, *usable = blue + plane, *sampled = usable + plane;
-  const uint16_t* edge = j.edge.row(y);
-  const uint32_t* color = &j.in.color[size_t(y) * size_t(j.width)];
-  const auto& lut = srgb8_to_linear();
-  for (int x = 0; x < j.width; ++x) {
-    const uint32_t c = color[x];
-    red[x] = lut[c & 255], green[x] = lut[(c >> 8) & 255], blue[x] = lut[(c >> 16) & 255];
-    usable[x] = usable_sample(edge[x]) ? 1.0f : 0.0f;
-    sampled[x] = has_sample(edge[x]) ? 1.0f : 0.0f;
-  }
+  j.kernels->decode({j.width, j.edge.row(y), j.types.row(y), &j.in.color[size_t(y) * size_t(j.width)],
+                     srgb8_to_linear().data(), side_tables().word, red, red + plane, red + 2 * plane, red + 3 * plane,
+                     red + 4 * plane, j.sides.row(y) + simd::kPad});
 }
 
 void reachability_stage(RowJob& j, int y) {
