@@ -39,6 +39,12 @@ HWY_INLINE void AntialiasLanes(DF df, const AntialiasRow& row, int x, const uint
   // Simple: 2 <= type < 14, i.e. (type - 2) < 12 unsigned; as an integer range on small values.
   const auto simple = hn::And(hn::Ne(hn::ShiftRight<1>(type), hn::Zero(du)),
                               hn::Eq(hn::And(hn::Add(type, two), hn::Set(du, ~15u)), hn::Zero(du)));
+  hn::Vec<DF> r, g, b;
+  hn::LoadInterleaved3(df, own, r, g, b);
+  if (hn::AllFalse(du, simple)) {  // most vectors: no simple pixel, the colours pass through
+    hn::StoreInterleaved3(r, g, b, df, out);
+    return;
+  }
   const auto primary_is_b = hn::RebindMask(df, hn::Ne(hn::And(hn::Sub(type, two), one), hn::Zero(du)));
   const VI code_i = hn::BitCast(di, code);
   const VU secondary = hn::GatherIndex(du, row.secondary, code_i);
@@ -58,8 +64,6 @@ HWY_INLINE void AntialiasLanes(DF df, const AntialiasRow& row, int x, const uint
   const int32_t off_down = row.rows[2] ? int32_t(row.rows[2] - row.rows[1]) : 0;
   const VI row_offset = hn::IfThenElse(up, hn::Set(di, off_up), hn::IfThenElseZero(down, hn::Set(di, off_down)));
   const VI index = hn::IfThenElseZero(usable, hn::Add(row_offset, hn::Mul(nx, hn::Set(di, 3))));
-  hn::Vec<DF> r, g, b;
-  hn::LoadInterleaved3(df, own, r, g, b);
   const auto sr = hn::GatherIndex(df, row.rows[1], index);
   const auto sg = hn::GatherIndex(df, row.rows[1] + 1, index);
   const auto sb = hn::GatherIndex(df, row.rows[1] + 2, index);

@@ -50,9 +50,11 @@ struct Reconstruction {
   ClassCounts counts;
 };
 
-// Wall time of each stage of Reconstructor::staged, ms.
+// Wall time of each stage of Reconstructor::staged, ms; cpu_ms: the calling thread's CPU time
+// in each stage (all of the stage's work when it runs on one thread; robust on a loaded machine).
 struct ReconstructTimes {
   std::array<double, kStageCount> ms{};
+  std::array<double, kStageCount> cpu_ms{};
   double& operator[](Stage s) { return ms[size_t(s)]; }
   double operator[](Stage s) const { return ms[size_t(s)]; }
   // The time of a reported series (stages.h, reported_as): its stages summed.
