@@ -49,6 +49,7 @@ HWY_INLINE void InterpolateLanes(DF df, const InterpolateRow& row, int x, const 
                            hn::ShiftLeft<1>(hn::And(r, hn::Set(du, 0xfff000u))));
   const VU take = hn::IfThenElse(complex, hn::Set(du, 0x1ffffffu), window);
   const auto complex_f = hn::RebindMask(df, complex);
+  const bool any_complex = !hn::AllFalse(du, complex);  // most vectors: only the usable flags
   auto sr = hn::Zero(df), sg = hn::Zero(df), sb = hn::Zero(df), total = hn::Zero(df);
   for (int dy = -2; dy <= 2; ++dy) {
     const int k0 = (dy + 2) * 5;
@@ -59,7 +60,8 @@ HWY_INLINE void InterpolateLanes(DF df, const InterpolateRow& row, int x, const 
     const float* sampled = row.sampled[dy + 2] + kPad + x;
     for (int dx = -2; dx <= 2; ++dx) {
       const auto bit = hn::RebindMask(df, hn::Ne(hn::And(take, hn::Set(du, 1u << (k0 + dx + 2))), hn::Zero(du)));
-      const auto flag = hn::IfThenElse(complex_f, hn::LoadU(df, sampled + dx), hn::LoadU(df, usable + dx));
+      const auto flag = any_complex ? hn::IfThenElse(complex_f, hn::LoadU(df, sampled + dx), hn::LoadU(df, usable + dx))
+                                    : hn::LoadU(df, usable + dx);
       const auto w = hn::IfThenElseZero(bit, hn::Mul(hn::Set(df, InterpolationWeight(dx, dy)), flag));
       sr = hn::Add(sr, hn::Mul(w, hn::LoadU(df, red + dx)));
       sg = hn::Add(sg, hn::Mul(w, hn::LoadU(df, green + dx)));
