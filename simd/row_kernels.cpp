@@ -12,6 +12,7 @@
 #include "simd/antialias-inl.h"
 #include "simd/classify-inl.h"
 #include "simd/decode-inl.h"
+#include "simd/fill-inl.h"
 #include "simd/interpolate-inl.h"
 #include "simd/reachability-inl.h"
 
@@ -21,7 +22,7 @@ namespace HWY_NAMESPACE {
 
 const RowKernels* KernelTable() {
   static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel, &ReachRowKernel, &ClassifyRowKernel,
-                                &AntialiasRowKernel, &DecodeRowKernel};
+                                &AntialiasRowKernel, &DecodeRowKernel, &FillRowKernel};
   return &table;
 }
 

@@ -95,6 +95,18 @@ struct DecodeRow {
   uint32_t* sides;
 };
 
+// One row of the fill step (fill.h) over padded rows of interpolated colours (3 floats per
+// pixel) and found flags: row k = image row y - 2 + k, pixel x at rows[k] + 3x and found[k] + x,
+// kPad pixels of zeros on the left and at least one vector's worth on the right; rows outside
+// the image all zeros.
+struct FillRow {
+  int width;
+  const float* rows[5];
+  const uint8_t* found[5];
+  const uint32_t* reach;  // the row's own masks
+  float* out;             // 3 floats per pixel
+};
+
 struct RowKernels {
   const char* target_name;
   int64_t target;  // the HWY_* bit
@@ -103,6 +115,7 @@ struct RowKernels {
   void (*classify)(ClassifyRow& row);
   void (*antialias)(const AntialiasRow& row);
   void (*decode)(const DecodeRow& row);
+  void (*fill)(const FillRow& row);
 };
 
 // The table of one target; 0: the best this CPU runs. Throws std::invalid_argument for a

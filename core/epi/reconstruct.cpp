@@ -142,7 +142,8 @@ struct PlaneStore {
     const size_t n = size_t(w);
     edge.assign(n * size_t(class_rows), 0), types.assign(n * size_t(class_rows), 0);
     reach.assign(samples_plane(w) * size_t(reach_rows), 0);  // padded: zeros outside the image
-    found.assign(n * size_t(interp_rows), 0), interp.assign(3 * n * size_t(interp_rows), 0.0f);
+    // Padded like the decoded rows: zeros outside the image (the fill kernel reads the 5x5).
+    found.assign(samples_plane(w) * size_t(interp_rows), 0), interp.assign(3 * samples_plane(w) * size_t(interp_rows), 0.0f);
     filled.assign(3 * n * size_t(filled_rows), 0.0f);
     samples.assign(samples_stride(w) * size_t(class_rows), 0.0f), zero_samples.assign(samples_stride(w), 0.0f);
     // Pads and rows outside the image read as outside (blocked); decoding writes only the pixels.
@@ -275,6 +276,16 @@ void fill_stage(RowJob& j, int y) {
   }
   const uint32_t* reach = j.reach.row(y);
   float* out = j.filled.row(y);
+  if (vector_kernels(j) && j.settings.fill) {
+    simd::FillRow row{j.width, {}, {}, reach, out};
+    const float* zeros = j.zero_samples + 3 * simd::kPad;  // a zero row, padding included
+    for (int k = 0; k < 5; ++k) {
+      row.rows[k] = interp_rows[k] ? interp_rows[k] : zeros;
+      row.found[k] = found_rows[k] ? found_rows[k] : reinterpret_cast<const uint8_t*>(zeros);
+    }
+    j.kernels->fill(row);
+    return;
+  }
   for (int x = 0; x < j.width; ++x) fill(j.settings, x, j.width, reach[x], interp_rows, found_rows, out + 3 * x);
 }
 
@@ -380,9 +391,10 @@ RowJob whole_image_job(const EpiImage& epi, const BoundaryMasks& masks, const Re
   const int w = epi.width, h = epi.height;
   const size_t n = size_t(w);
   return RowJob{epi, masks, s, kernels, r, w, h,
-                {r.edge.data(), n}, {whole.types.data(), n}, {whole.found.data(), n},
+                {r.edge.data(), n}, {whole.types.data(), n}, {whole.found.data() + simd::kPad, samples_plane(w)},
                 {whole.reach.data() + simd::kPad, samples_plane(w)},
-                {whole.interp.data(), 3 * n}, {whole.filled.data(), 3 * n}, {r.image.pixels.data(), 3 * n},
+                {whole.interp.data() + 3 * simd::kPad, 3 * samples_plane(w)}, {whole.filled.data(), 3 * n},
+                {r.image.pixels.data(), 3 * n},
                 {whole.samples.data(), samples_stride(w)}, {whole.sides.data(), samples_plane(w)}, 0, h - 1, counts,
                 priority_scratch, total_scratch, whole.zero_samples.data(), whole.outside_sides.data()};
 }
@@ -456,9 +468,9 @@ void Reconstructor::tiled(const EpiImage& epi, const BoundaryMasks& masks, const
     const size_t n = size_t(w);
     RowJob job{epi, masks, s, kernels_, r, w, h,
                {ring.edge.data(), n, kClassRingRows - 1}, {ring.types.data(), n, kClassRingRows - 1},
-               {ring.found.data(), n, ring_rows(Plane::interp) - 1},
+               {ring.found.data() + simd::kPad, samples_plane(w), ring_rows(Plane::interp) - 1},
                {ring.reach.data() + simd::kPad, samples_plane(w), ring_rows(Plane::reach) - 1},
-               {ring.interp.data(), 3 * n, ring_rows(Plane::interp) - 1}, {ring.filled.data(), 3 * n, ring_rows(Plane::filled) - 1},
+               {ring.interp.data() + 3 * simd::kPad, 3 * samples_plane(w), ring_rows(Plane::interp) - 1}, {ring.filled.data(), 3 * n, ring_rows(Plane::filled) - 1},
                {r.image.pixels.data(), 3 * n}, {ring.samples.data(), samples_stride(w), kClassRingRows - 1},
                {ring.sides.data(), samples_plane(w), kClassRingRows - 1},
                y0, y1 - 1, &band_counts[size_t(b)], local.priority.data(), local.total.data(),
