@@ -47,12 +47,18 @@ HWY_INLINE void AntialiasLanes(DF df, const AntialiasRow& row, int x, const uint
   }
   const auto primary_is_b = hn::RebindMask(df, hn::Ne(hn::And(hn::Sub(type, two), one), hn::Zero(du)));
   const VI code_i = hn::BitCast(di, code);
-  const VU secondary = hn::GatherIndex(du, row.secondary, code_i);
+  // One gather: area of A in bits 0-15, the secondary neighbours in bits 16-23.
+  const VU packed = hn::GatherIndex(du, row.area_and_secondary, code_i);
+  const VU secondary = hn::ShiftRight<16>(packed);
   // The neighbour for the secondary region: B's nibble when B is secondary (A primary).
   const VU k = hn::And(hn::IfThenElse(hn::RebindMask(du, primary_is_b), secondary, hn::ShiftRight<4>(secondary)),
                        hn::Set(du, 15u));
-  const VI dx = hn::GatherIndex(di, row.neighbour_dx, hn::BitCast(di, k));
-  const VI dy = hn::GatherIndex(di, row.neighbour_dy, hn::BitCast(di, k));
+  // kNeighbourDx/Dy (tables.h) + 1 as 2-bit fields: dx 1,0,-1,0,1,-1,-1,1; dy 0,1,0,-1,1,1,-1,-1.
+  constexpr uint32_t kDx = 2 | 1 << 2 | 0 << 4 | 1 << 6 | 2 << 8 | 0 << 10 | 0 << 12 | 2 << 14;
+  constexpr uint32_t kDy = 1 | 2 << 2 | 1 << 4 | 0 << 6 | 2 << 8 | 2 << 10 | 0 << 12 | 0 << 14;
+  const VU shift = hn::ShiftLeft<1>(k);
+  const VI dx = hn::Sub(hn::BitCast(di, hn::And(hn::Shr(hn::Set(du, kDx), shift), hn::Set(du, 3u))), hn::Set(di, 1));
+  const VI dy = hn::Sub(hn::BitCast(di, hn::And(hn::Shr(hn::Set(du, kDy), shift), hn::Set(du, 3u))), hn::Set(di, 1));
   const VI nx = hn::Add(hn::Iota(di, x), dx);
   const auto up = hn::Eq(dy, hn::Set(di, -1)), down = hn::Eq(dy, hn::Set(di, 1));
   auto usable = hn::And(hn::RebindMask(di, simple),
@@ -67,7 +73,7 @@ HWY_INLINE void AntialiasLanes(DF df, const AntialiasRow& row, int x, const uint
   const auto sr = hn::GatherIndex(df, row.rows[1], index);
   const auto sg = hn::GatherIndex(df, row.rows[1] + 1, index);
   const auto sb = hn::GatherIndex(df, row.rows[1] + 2, index);
-  const auto area = hn::Mul(hn::ConvertTo(df, hn::BitCast(di, hn::GatherIndex(du, row.area, code_i))),
+  const auto area = hn::Mul(hn::ConvertTo(df, hn::BitCast(di, hn::And(packed, hn::Set(du, 0xffffu)))),
                             hn::Set(df, 1.0f / 65535.0f));
   const auto a = hn::IfThenElse(primary_is_b, hn::Sub(hn::Set(df, 1.0f), area), area);
   const auto not_a = hn::Sub(hn::Set(df, 1.0f), a);

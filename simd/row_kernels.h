@@ -74,10 +74,8 @@ struct AntialiasRow {
   const float* rows[3];
   const uint8_t* types;
   const uint16_t* edge;            // classified edge words (codes)
-  const uint32_t* secondary;       // EpiTables::secondary_neighbour widened, 1024 entries
-  const uint32_t* area;            // EpiTables::area_a widened, 1024 entries
-  const int32_t* neighbour_dx;     // kNeighbourDx, kNeighbourDy (tables.h), padded to 16 entries
-  const int32_t* neighbour_dy;
+  // By edge code, 1024 entries: EpiTables::area_a in bits 0-15, secondary_neighbour in 16-23.
+  const uint32_t* area_and_secondary;
   float* out;                      // 3 floats per pixel
 };
 

@@ -112,15 +112,13 @@ const SideTables& side_tables() {
 
 // The tables the vector kernels gather from, widened to 32 bits.
 struct WideTables {
-  uint32_t area[1024], secondary[1024];
-  int32_t dx[16], dy[16];
+  uint32_t area[1024], area_and_secondary[1024];
 };
 const WideTables& wide_tables() {
   static const WideTables tables = [] {
     const EpiTables& t = epi_tables();
     WideTables w{};
-    for (int k = 0; k < 1024; ++k) w.area[k] = t.area_a[k], w.secondary[k] = t.secondary_neighbour[k];
-    for (int k = 0; k < 8; ++k) w.dx[k] = kNeighbourDx[k], w.dy[k] = kNeighbourDy[k];
+    for (int k = 0; k < 1024; ++k) w.area[k] = t.area_a[k], w.area_and_secondary[k] = t.area_a[k] | uint32_t(t.secondary_neighbour[k]) << 16;
     return w;
   }();
   return tables;
@@ -298,7 +296,7 @@ void antialias_stage(RowJob& j, int y) {
   const bool on = j.settings.filter == Filter::epi && j.settings.antialias;
   if (on && j.kernels) {
     const WideTables& t = wide_tables();
-    j.kernels->antialias({j.width, {rows[0], rows[1], rows[2]}, types, j.edge.row(y), t.secondary, t.area, t.dx, t.dy, out});
+    j.kernels->antialias({j.width, {rows[0], rows[1], rows[2]}, types, j.edge.row(y), t.area_and_secondary, out});
     return;
   }
   for (int x = 0; x < j.width; ++x) {
