@@ -176,11 +176,11 @@ void BM_Filters(benchmark::State& state) {
   Reconstructor reconstructor(kernel_choice(state.range(2)));
   Reconstruction r;
   ReconstructTimes times;
-  reconstructor.staged(f.epi, f.masks, {}, r, times, threads);
+  reconstructor.staged(f.epi, f.masks, {}, r, times, {64, threads});
   if (!same_result(r, f.oracle)) return state.SkipWithError("the result differs from the oracle");
   std::array<double, kStageCount> sum{}, cpu{};
   for (auto _ : state) {
-    reconstructor.staged(f.epi, f.masks, {}, r, times, threads);
+    reconstructor.staged(f.epi, f.masks, {}, r, times, {64, threads});
     double total = 0;
     for (int k = 0; k < kStageCount; ++k) {
       sum[size_t(k)] += times.ms[size_t(k)], cpu[size_t(k)] += times.cpu_ms[size_t(k)];
@@ -227,6 +227,27 @@ void BM_Reconstruct(benchmark::State& state) {
   state.SetLabel(oracle ? std::string("oracle") + (state.range(4) ? " many" : " few")
                         : std::string("tiled ") + reconstructor.kernel_name() + (state.range(4) ? " many " : " few ") +
                               std::to_string(threads) + "T");
+}
+
+// What reachability reused across rows saves: the reachability stage of the staged schedule
+// (chunks of 8 rows: 6 of 8 rows take the upper half by symmetry) with the best target, one
+// thread, with and without the reuse (arg 2), few edges.
+void BM_ReachReuse(benchmark::State& state) {
+  Frame& f = frame(int(state.range(0)), int(state.range(1)));
+  Reconstructor reconstructor;
+  Reconstruction r;
+  ReconstructTimes times;
+  const Schedule schedule{64, 1, state.range(2) != 0};
+  double wall = 0, cpu = 0;
+  for (auto _ : state) {
+    reconstructor.staged(f.epi, f.masks, {}, r, times, schedule);
+    wall += times[Stage::reachability], cpu += times.cpu_ms[size_t(Stage::reachability)];
+    state.SetIterationTime(times[Stage::reachability] * 1e-3);
+  }
+  if (!same_result(r, f.oracle)) return state.SkipWithError("the result differs from the oracle");
+  state.counters["reachability_ms"] = wall / double(state.iterations());
+  state.counters["reachability_cpu_ms"] = cpu / double(state.iterations());
+  state.SetLabel(std::string(reconstructor.kernel_name()) + (schedule.reach_symmetry ? " symmetry" : " all 24"));
 }
 
 // The band height of the schedule, 1920x1080, 2 threads.
@@ -336,6 +357,8 @@ BENCHMARK(BM_StreamingFloor)->Apply(SizesAll);
 BENCHMARK(BM_Rasterize)->Apply(Sizes);
 BENCHMARK(BM_Filters)->Apply(FilterArgs);
 BENCHMARK(BM_Reconstruct)->Apply(ReconstructArgs);
+BENCHMARK(BM_ReachReuse)->Args({1920, 1080, 0})->Args({1920, 1080, 1})->Args({3840, 2160, 0})->Args({3840, 2160, 1})
+    ->Unit(benchmark::kMillisecond)->UseManualTime();
 BENCHMARK(BM_ReconstructBandRows)->Arg(4)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_LayoutAoS)->Apply(SizesSerial);
 BENCHMARK(BM_LayoutSoA)->Apply(SizesSerial);

@@ -410,12 +410,12 @@ void Reconstructor::oracle(const EpiImage& epi, const BoundaryMasks& masks, cons
 }
 
 void Reconstructor::staged(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
-                           Reconstruction& r, ReconstructTimes& times, int threads) {
+                           Reconstruction& r, ReconstructTimes& times, const Schedule& schedule) {
   prepare_output(epi, masks, r);
   const int w = epi.width, h = epi.height;
   scratch_->whole.resize(w, h, h, h, h);
   tbb::combinable<ClassCounts> counts;
-  scratch_->arena_for(threads).execute([&] {
+  scratch_->arena_for(schedule.threads).execute([&] {
     for (const StageInfo& stage : kStages) {
       const auto t = Clock::now();
       const double cpu = thread_cpu_ms();
@@ -424,7 +424,7 @@ void Reconstructor::staged(const EpiImage& epi, const BoundaryMasks& masks, cons
         local.resize(w);
         RowJob job = whole_image_job(epi, masks, s, kernels_, r, scratch_->whole, &counts.local(), nullptr,
                                      local.total.data());
-        job.stage_first = range.begin(), job.reuse_reach = true;
+        job.stage_first = range.begin(), job.reuse_reach = schedule.reach_symmetry;
         for (int y = range.begin(); y != range.end(); ++y) run_stage_row(stage.stage, job, y);
       });
       times[stage.stage] = ms_since(t);
@@ -473,7 +473,7 @@ void Reconstructor::tiled(const EpiImage& epi, const BoundaryMasks& masks, const
                {ring.sides.data(), samples_plane(w), kClassRingRows - 1},
                y0, y1 - 1, &band_counts[size_t(b)], local.priority.data(), local.total.data(),
                ring.zero_samples.data(), ring.outside_sides.data()};
-    job.reuse_reach = true;
+    job.reuse_reach = schedule.reach_symmetry;
     job.stage_first = first[size_t(Stage::reachability)];
     const int classified_first = first[size_t(Stage::classify)];
     for (int y = classified_first; y <= last[size_t(Stage::classify)] + kMaxLag; ++y)

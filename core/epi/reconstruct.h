@@ -38,6 +38,10 @@ struct ReconstructSettings {
 struct Schedule {
   int rows_per_band = 64;  // rows per parallel task (BM_ReconstructBandRows)
   int threads = 0;         // 0: all cores
+  // Reachability takes the 10 offsets towards the two rows above from those rows' masks
+  // (symmetry) wherever the schedule has them (docs/epi.md); false: all 24 computed (the bench's
+  // measure of what the reuse saves).
+  bool reach_symmetry = true;
 };
 
 struct Reconstruction {
@@ -92,9 +96,10 @@ class Reconstructor {
   // functions of each stage (whatever the kernel choice).
   void oracle(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings,
               Reconstruction& out);
-  // Each stage over the whole image in turn, rows in parallel, each stage timed.
+  // Each stage over the whole image in turn, rows in parallel (chunks of 8 rows), each stage
+  // timed; schedule.rows_per_band is not used.
   void staged(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings,
-              Reconstruction& out, ReconstructTimes& times, int threads = 0);
+              Reconstruction& out, ReconstructTimes& times, const Schedule& schedule = {});
   // Bands of rows in parallel, rows streamed through all stages (docs/epi.md, "Schedule").
   void tiled(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings,
              const Schedule& schedule, Reconstruction& out);

@@ -48,8 +48,10 @@ class Kernels : public testing::TestWithParam<int64_t> {
       expect_same("tiled");
     }
     ReconstructTimes times;
-    fast.staged(b.epi, b.masks, s, r, times, 2);
+    fast.staged(b.epi, b.masks, s, r, times, {8, 2});
     expect_same("staged");
+    fast.tiled(b.epi, b.masks, s, {7, 1, false}, r);
+    expect_same("tiled, reachability without symmetry");
     ASSERT_EQ(input.edge, b.epi.edge);  // the input is never written
     ASSERT_EQ(input.color, b.epi.color);
   }
