@@ -50,6 +50,7 @@ def main(paths):
     floor = defaultdict(list)         # (w, h) -> floor CPU ms
     filters = defaultdict(lambda: defaultdict(list))  # (w, h, edges, threads, kernel) -> stage -> [ms]
     whole = defaultdict(list)         # (w, h, edges, label) -> [ms]
+    reuse = defaultdict(list)         # (w, h, symmetry) -> reachability CPU ms
     kernels = {}
     for r in runs:
         bench, a = args(r["name"])
@@ -61,6 +62,8 @@ def main(paths):
             for s in STAGES:
                 key = f"{s}_cpu_ms" if threads == 1 else f"{s}_ms"
                 filters[(w, h, edges, threads, k)][s].append(r[key])
+        elif bench == "BM_ReachReuse":
+            reuse[(a[0], a[1], a[2])].append(r["reachability_cpu_ms"])
         elif bench == "BM_Reconstruct":
             w, h, k, threads, edges = a[:5]
             label = r["label"].replace(" few", "").replace(" many", "")
@@ -101,6 +104,14 @@ def main(paths):
                 v = best(whole.get((w, h, edges, l), []))
                 cells.append("-" if v is None else f"{fmt(v)} ({fmt(v / fl) if fl else '-'})")
             out.append(f"| {SIZE_NAMES.get((w, h))} | {'many' if edges else 'few'} | " + " | ".join(cells) + " |")
+    if reuse:
+        out.append("\n**Reachability reused across rows** (the best target, one thread, CPU ms of the reachability stage)\n")
+        out.append("| size | all 24 offsets | forward 14 + symmetry | saved |")
+        out.append("|---|---|---|---|")
+        for (w, h) in sorted({(k[0], k[1]) for k in reuse}):
+            full, sym = best(reuse.get((w, h, 0), [])), best(reuse.get((w, h, 1), []))
+            saved = f"{100 * (1 - sym / full):.0f} %" if full and sym else "-"
+            out.append(f"| {SIZE_NAMES.get((w, h))} | {fmt(full, 2)} | {fmt(sym, 2)} | {saved} |")
     print("\n".join(out))
 
 

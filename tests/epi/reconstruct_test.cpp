@@ -438,3 +438,40 @@ TEST(Reconstruct, MismatchedSizesAreRejected) {
 
 }  // namespace
 }  // namespace epi
+
+namespace epi {
+namespace {
+
+// The schedule's numbers follow from the stage table (docs/epi.md, "Stages and schedules"):
+// a stage's lag is the largest producer lag plus radius over its inputs; rings hold every row
+// a reader still needs.
+TEST(Stages, LagsRingsAndReportedSeriesFollowTheTable) {
+  EXPECT_EQ(stage_lag(Stage::classify), 0);
+  EXPECT_EQ(stage_lag(Stage::decode), 0);
+  EXPECT_EQ(stage_lag(Stage::reachability), 2);
+  EXPECT_EQ(stage_lag(Stage::interpolate), 3);
+  EXPECT_EQ(stage_lag(Stage::fill), 5);
+  EXPECT_EQ(stage_lag(Stage::antialias), 6);
+  EXPECT_EQ(stage_lag(Stage::complex), 6);
+  EXPECT_EQ(kMaxLag, 6);
+  EXPECT_EQ(kClassRingRows, 8);  // rows y-7 (the complex filter's top) .. y
+  EXPECT_EQ(ring_rows(Plane::reach), 4);
+  EXPECT_EQ(ring_rows(Plane::interp), 8);
+  EXPECT_EQ(ring_rows(Plane::filled), 4);
+  for (const StageInfo& s : kStages) {
+    EXPECT_EQ(&stage_info(s.stage), &s);
+    for (int i = 0; i < s.input_count; ++i) {  // every input is produced by an earlier stage (or this one: the image)
+      const Stage p = producer(s.inputs[size_t(i)].plane);
+      EXPECT_LE(int(p), int(s.stage)) << s.name;
+    }
+  }
+  ReconstructTimes t;
+  for (int k = 0; k < kStageCount; ++k) t.ms[size_t(k)] = double(1 << k);
+  EXPECT_EQ(t.reported(Stage::classify), 1 + 2);       // classify + decode
+  EXPECT_EQ(t.reported(Stage::interpolate), 8 + 16);   // interpolate + fill
+  EXPECT_EQ(t.reported(Stage::complex), 64);
+  EXPECT_FALSE(is_reported(Stage::fill));
+}
+
+}  // namespace
+}  // namespace epi
