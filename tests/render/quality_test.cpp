@@ -2,6 +2,7 @@
 // level 2 to keep the suite fast): at equal budget and frames the EPI image is closer to the
 // reference than the render cache's, also at the pixels its geometric edges cross; and with a still
 // camera the EPI error keeps falling.
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -61,6 +62,18 @@ std::vector<uint8_t> edge_pixels(const FrameRenderer& renderer, int w, int h, bo
   return mask;
 }
 
+// RMSE of sRGB-encoded values clamped to [0, 1] (what a screen shows; the light's own pixels,
+// far above 1, count as 1).
+double display_rmse(const RgbImage& a, const RgbImage& b) {
+  auto display = [](float v) {
+    const double c = std::clamp(double(v), 0.0, 1.0);
+    return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
+  };
+  double sum = 0.0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) sum += std::pow(display(a.pixels[i]) - display(b.pixels[i]), 2.0);
+  return std::sqrt(sum / double(a.pixels.size()));
+}
+
 class Quality : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(Quality, EpiIsCloserToTheReferenceThanTheRenderCacheAndKeepsImproving) {
@@ -105,11 +118,10 @@ TEST_P(Quality, EpiIsCloserToTheReferenceThanTheRenderCacheAndKeepsImproving) {
   for (size_t i = 0; i < e_epi.size(); ++i)
     if (near_shadows[i]) shadow_epi += e_epi[i], shadow_cache += e_cache[i], ++shadow_count;
   if (shadow_count >= 20) {
-    // torus_capsule: EPI is 1.38x the render cache's error at its shadow edges, the cost of cutting
-    // interpolation at a 2-3 pixel wide penumbra (docs/render.md, "Quality"; test below); held
-    // at that level here so it cannot get worse unseen.
-    const double allowed = std::string(GetParam()) == "torus_capsule.gltf" ? 1.45 : 1.0;
-    EXPECT_LT(shadow_epi, allowed * shadow_cache);
+    // Hard shadow edges (punctual lights; soft-shadow edges are off by default, test below). At
+    // rest the render cache averages results at every pixel while the EPI keeps one side's sample
+    // at a pixel an edge crosses (PointCache::set_refine_mask): rooms measures 1.01 here.
+    EXPECT_LT(shadow_epi, 1.05 * shadow_cache);
   }
   std::printf("%s: EPI/render cache error %.3f at %zu shadow edge pixels\n", GetParam(),
               shadow_count ? shadow_epi / shadow_cache : 0.0, shadow_count);
@@ -131,7 +143,7 @@ TEST(QualityTorusCapsule, ShadowEdgeExcessIsTheNarrowPenumbraStrip) {
   auto run = [&](RenderMode mode, bool shadow_edges, RgbImage& image) {
     FrameSettings s;
     s.width = kSize, s.height = kSize, s.sync = true, s.sample_budget = 0.04, s.seed = 2;
-    s.mode = mode, s.shadow_edges = shadow_edges;
+    s.mode = mode, s.shadow_edges = shadow_edges, s.soft_shadow_edges = shadow_edges;  // the paper's behaviour
     auto r = std::make_unique<FrameRenderer>(loaded.scene, loaded.ray_scene, loaded.shader, s);
     for (int f = 0; f < 12; ++f) image = r->render(view.camera);
     return r;
@@ -179,8 +191,43 @@ TEST(QualityTorusCapsule, ShadowEdgeExcessIsTheNarrowPenumbraStrip) {
               with_edges / cache, without / cache, umbral_bias, penumbral_bias);
   EXPECT_GT(umbral_bias, 0.0);     // too bright next to the umbra
   EXPECT_LT(penumbral_bias, 0.0);  // too dark next to the lit floor
-  EXPECT_LT(without, cache);       // the same pixels without shadow edges: better than the render cache
-  EXPECT_GT(with_edges, cache);    // the known defect; when this fails, update docs/render.md and the allowance
+  // The evidence for FrameSettings::soft_shadow_edges = false (docs/render.md, "Soft-shadow
+  // edges"): the same pixels are clearly better without the soft edges, and the paper's behaviour
+  // is worse there than the render cache.
+  EXPECT_LT(without, 0.85 * with_edges);
+  EXPECT_GT(with_edges, cache);
+}
+
+// Convergence at rest (issue 9): with the gi shader each result is one noisy estimate. Refined
+// in place (running means per point), a still view keeps improving past a 1-spp path trace of the
+// same shader; replaced (the render cache's rule), it never gets much better than one.
+TEST(QualityAtRest, StillGiViewConvergesPastAOneSampleRayTrace) {
+  const Scene scene = load_scene(std::string(EPI_SOURCE_DIR) + "/scenes/cornell_box.gltf", LoadOptions{2});
+  RayScene ray_scene(scene);
+  ShaderSettings ss;
+  ss.kind = ShaderKind::gi, ss.gi_paths = 2, ss.area_light_samples = 2;
+  const Shader shader(ray_scene, ss);
+  View view;
+  view.camera = scene.cameras.at(0), view.width = 64, view.height = 64;
+  const RgbImage reference = render_image(shader, view, 256);
+  auto total_error = [&](const RgbImage& image) { return display_rmse(image, reference); };
+  const double one_spp = total_error(render_image(shader, view, 1));
+  auto run = [&](bool refine) {
+    FrameSettings s;
+    s.width = 64, s.height = 64, s.sync = true, s.sample_budget = 0.1, s.seed = 4;
+    s.cache.refine = refine;
+    FrameRenderer renderer(scene, ray_scene, shader, s);
+    RgbImage image;
+    for (int f = 0; f < 100; ++f) image = renderer.render(view.camera);
+    return total_error(image);
+  };
+  const double refined = run(true), replaced = run(false);
+  std::printf("cornell_box gi at rest, 64x64, 100 frames at 10%%: display RMSE / 1-spp ray trace %.3f refined, %.3f replaced\n",
+              refined / one_spp, replaced / one_spp);
+  // Measured 0.40 and 0.49; at 64x64 the reconstruction's own error at edges sets the floor
+  // (300 frames give the same 0.40), so the margin between the two is what refinement buys here.
+  EXPECT_LT(refined, 0.45 * one_spp);
+  EXPECT_LT(refined, 0.9 * replaced);
 }
 
 INSTANTIATE_TEST_SUITE_P(BundledScenes, Quality,
