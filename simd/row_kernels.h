@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "epi/tables.h"  // kSideBlocked, kSideNonEmpty (header only: simd links no core/epi code)
+
 namespace epi::simd {
 
 // One row of interpolation (interpolate.h: the 5x5 kernel-weighted mean of the reachable
@@ -37,8 +39,8 @@ struct InterpolateRow {
 // the descriptor of what the pixel shows on its side s (0 top, 1 right, 2 bottom, 3 left; 0 the
 // primary region whole, 1 the secondary whole, 2 the primary before the crossing and the
 // secondary after, 3 the reverse), kSideBlocked for complex pixels and pixels outside the image
-// (padding, rows outside), kSideNonEmpty for every pixel but an empty one.
-constexpr uint32_t kSideBlocked = 1u << 8, kSideNonEmpty = 1u << 9;
+// (padding, rows outside), kSideNonEmpty for every pixel but an empty one (epi/tables.h,
+// SideDescriptors, builds them).
 struct ReachRow {
   int width;
   const uint32_t* sides[5];

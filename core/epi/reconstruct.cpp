@@ -67,48 +67,7 @@ struct RowPlane {
 size_t samples_plane(int w) { return size_t(w) + 2 * simd::kPad + 64; }
 size_t samples_stride(int w) { return 5 * samples_plane(w); }
 
-// Side words (simd::ReachRow) by pixel type, and the relation of side descriptors, both from
-// the same regions_on_side that generates the oracle's neighbour table (tables.cpp).
-constexpr uint32_t kOutsideSides = simd::kSideBlocked | simd::kSideNonEmpty;
-struct SideTables {
-  uint32_t word[16];
-  uint32_t relation_lo = 0, relation_hi = 0;
-};
-const SideTables& side_tables() {
-  static const SideTables tables = [] {
-    SideTables t{};
-    for (int type = 0; type < 16; ++type) {
-      uint32_t word = type == kTypeEmpty ? 0 : simd::kSideNonEmpty;
-      for (int side = 0; side < 4; ++side) {
-        int regions[2], parts[2];
-        const int n = regions_on_side(type, side, regions, parts);
-        if (n == 0) word |= simd::kSideBlocked;  // complex (and the unused types)
-        const uint32_t descriptor = n == 2 ? (parts[regions[0] == 0 ? 0 : 1] == 1 ? 2u : 3u) : n == 1 ? uint32_t(regions[0]) : 0u;
-        word |= descriptor << (2 * side);
-      }
-      t.word[type] = word;
-    }
-    // Descriptor d as (region, part) pairs; part 0 whole, 1 before the crossing, 2 after.
-    auto pairs = [](int d, int regions[2], int parts[2]) {
-      if (d < 2) return regions[0] = d, parts[0] = 0, 1;
-      regions[0] = 0, parts[0] = d == 2 ? 1 : 2, regions[1] = 1, parts[1] = d == 2 ? 2 : 1;
-      return 2;
-    };
-    for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b) {
-        int ra[2], pa[2], rb[2], pb[2];
-        const int na = pairs(a, ra, pa), nb = pairs(b, rb, pb);
-        uint32_t mask = 0;
-        for (int i = 0; i < na; ++i)
-          for (int k = 0; k < nb; ++k)
-            if (pa[i] == 0 || pb[k] == 0 || pa[i] != pb[k]) mask |= 1u << (ra[i] * 2 + rb[k]);
-        const int index = 4 * a + b;
-        (index < 8 ? t.relation_lo : t.relation_hi) |= mask << (4 * (index & 7));
-      }
-    return t;
-  }();
-  return tables;
-}
+constexpr uint32_t kOutsideSides = kSideBlocked | kSideNonEmpty;
 
 // The tables the vector kernels gather from, widened to 32 bits.
 struct WideTables {
@@ -209,7 +168,7 @@ void decode_stage(RowJob& j, int y) {
   const size_t plane = samples_plane(j.width);
   float* red = j.samples.row(y) + simd::kPad;
   j.kernels->decode({j.width, j.edge.row(y), j.types.row(y), &j.in.color[size_t(y) * size_t(j.width)],
-                     srgb8_to_linear().data(), side_tables().word, red, red + plane, red + 2 * plane, red + 3 * plane,
+                     srgb8_to_linear().data(), side_descriptors().word, red, red + plane, red + 2 * plane, red + 3 * plane,
                      red + 4 * plane, j.sides.row(y) + simd::kPad});
 }
 
@@ -221,7 +180,7 @@ void reachability_stage(RowJob& j, int y) {
   }
   const TypeRows types{j.types.data, j.width, j.height, j.types.mask};
   if (j.kernels) {
-    const SideTables& tables = side_tables();
+    const SideDescriptors& tables = side_descriptors();
     simd::ReachRow row{j.width, {}, tables.relation_lo, tables.relation_hi, reach, {}};
     for (int k = 0; k < 5; ++k) row.sides[k] = j.inside(y - 2 + k) ? j.sides.row(y - 2 + k) : j.outside_sides;
     if (j.reuse_reach && y - 2 >= j.stage_first) row.above[0] = j.reach.row(y - 1), row.above[1] = j.reach.row(y - 2);
