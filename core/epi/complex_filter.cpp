@@ -44,6 +44,22 @@ const std::array<SubPixelGeometry, 256>& sub_pixel_geometry() {
   return table;
 }
 
+// geom::classify_cell(sides, 4) for every combination of the four 4-bit side masks (index
+// top | right << 4 | bottom << 8 | left << 12): kind in bits 0-1, p_low in 2-5, p_high in 6-9.
+// Built from classify_cell itself, so equal to it by construction (128 KB).
+const std::array<uint16_t, 65536>& sub_cell_classes() {
+  static const std::array<uint16_t, 65536> table = [] {
+    std::array<uint16_t, 65536> t{};
+    for (uint32_t i = 0; i < t.size(); ++i) {
+      const uint8_t sides[4] = {uint8_t(i & 15), uint8_t((i >> 4) & 15), uint8_t((i >> 8) & 15), uint8_t(i >> 12)};
+      const geom::CellClass c = geom::classify_cell(sides, 4);
+      t[i] = uint16_t(int(c.kind) | c.p_low << 2 | c.p_high << 6);
+    }
+    return t;
+  }();
+  return table;
+}
+
 struct SubPixel {
   CellKind kind = CellKind::complex;  // complex also stands for "outside the image"
   const SubPixelGeometry* geometry = nullptr;
@@ -65,19 +81,19 @@ void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
                    float out[3]) {
   // Classify the 6x6 sub-pixels.
   const std::array<SubPixelGeometry, 256>& geometry = sub_pixel_geometry();
+  const std::array<uint16_t, 65536>& classes = sub_cell_classes();
   SubPixel sub[kGrid][kGrid];
   for (int v = 0; v < kGrid; ++v)
     for (int u = 0; u < kGrid; ++u) {
       const int px = x - 1 + u / 2, py = y - 1 + v / 2, sx = u & 1, sy = v & 1;
       if (!epi.inside(px, py)) continue;
-      uint8_t sides[4];
-      sides[0] = half(sy == 0 ? masks.top[masks.index(px, py)] : masks.centre_h[masks.index(px, py)], sx);
-      sides[1] = half(sx == 0 ? masks.centre_v[masks.index(px, py)] : masks.left[masks.index(px + 1, py)], sy);
-      sides[2] = half(sy == 0 ? masks.centre_h[masks.index(px, py)] : masks.top[masks.index(px, py + 1)], sx);
-      sides[3] = half(sx == 0 ? masks.left[masks.index(px, py)] : masks.centre_v[masks.index(px, py)], sy);
-      const geom::CellClass c = geom::classify_cell(sides, 4);
-      sub[v][u].kind = c.kind;
-      if (c.kind == CellKind::simple) sub[v][u].geometry = &geometry[size_t(c.p_low * 16 + c.p_high)];
+      const uint32_t top = half(sy == 0 ? masks.top[masks.index(px, py)] : masks.centre_h[masks.index(px, py)], sx);
+      const uint32_t right = half(sx == 0 ? masks.centre_v[masks.index(px, py)] : masks.left[masks.index(px + 1, py)], sy);
+      const uint32_t bottom = half(sy == 0 ? masks.centre_h[masks.index(px, py)] : masks.top[masks.index(px, py + 1)], sx);
+      const uint32_t left = half(sx == 0 ? masks.left[masks.index(px, py)] : masks.centre_v[masks.index(px, py)], sy);
+      const uint16_t c = classes[top | right << 4 | bottom << 8 | left << 12];  // geom::classify_cell(sides, 4)
+      sub[v][u].kind = CellKind(c & 3);
+      if (sub[v][u].kind == CellKind::simple) sub[v][u].geometry = &geometry[size_t(((c >> 2) & 15) * 16 + (c >> 6))];
     }
 
   // Connect regions across shared sides: nodes (v * 6 + u) * 2 + region.
