@@ -1,7 +1,9 @@
 #include "epi/complex_filter.h"
 
+#include <algorithm>
 #include <array>
 #include <numeric>
+#include <utility>
 
 #include "epi/geometry.h"
 
@@ -97,8 +99,16 @@ void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
     }
 
   // Connect regions across shared sides: nodes (v * 6 + u) * 2 + region.
-  int parent[kGrid * kGrid * 2];
+  // Union by size keeps the trees shallow; only the partition matters (region_color compares roots).
+  int parent[kGrid * kGrid * 2], size[kGrid * kGrid * 2];
   std::iota(parent, parent + kGrid * kGrid * 2, 0);
+  std::fill(size, size + kGrid * kGrid * 2, 1);
+  auto unite = [&](int a, int b) {
+    int ra = find(parent, a), rb = find(parent, b);
+    if (ra == rb) return;
+    if (size[ra] < size[rb]) std::swap(ra, rb);
+    parent[rb] = ra, size[ra] += size[rb];
+  };
   auto node = [](int u, int v, int region) { return (v * kGrid + u) * 2 + region; };
   for (int v = 0; v < kGrid; ++v)
     for (int u = 0; u < kGrid; ++u) {
@@ -109,16 +119,13 @@ void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
         if (bu >= kGrid || bv >= kGrid || sub[bv][bu].kind == CellKind::complex) continue;
         const SubPixel& b = sub[bv][bu];
         if (a.kind == CellKind::empty && b.kind == CellKind::empty) {
-          const int ra = find(parent, node(u, v, 0)), rb = find(parent, node(bu, bv, 0));
-          if (ra != rb) parent[ra] = rb;
+          unite(node(u, v, 0), node(bu, bv, 0));
           continue;
         }
         // A shared side holds at most one crossing, at a piece centre in [1/8, 7/8]: probing
         // both ends of the side meets every region that touches it.
         for (int k = 0; k < 2; ++k) {  // a's right (bottom) side meets b's left (top) side
-          const int ra = find(parent, node(u, v, region_at(a, dir == 0 ? 0 : 1, k)));
-          const int rb = find(parent, node(bu, bv, region_at(b, dir == 0 ? 2 : 3, k)));
-          if (ra != rb) parent[ra] = rb;
+          unite(node(u, v, region_at(a, dir == 0 ? 0 : 1, k)), node(bu, bv, region_at(b, dir == 0 ? 2 : 3, k)));
         }
       }
     }
