@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "image/image.h"
+#include "image_compare.h"
 
 namespace epi {
 struct Scene;
@@ -66,6 +67,18 @@ class StagedOutputs {
   };
   std::vector<Staged> staged_;
 };
+
+// A reference image for `compare` and `render --reference`: read (or refused with
+// "<file>: <problem>": missing, unreadable, or, when width > 0, not width x height) before work.
+struct ReferenceImage {
+  std::string file;
+  RgbImage image;
+  ImageEncoding encoding = ImageEncoding::linear;
+};
+ReferenceImage read_reference(const std::string& file, int width = 0, int height = 0);
+// The metrics (io/image/image_compare.h) on one line, and as JSON.
+std::string difference_line(const ImageDifference& d);
+nlohmann::json difference_json(const ImageDifference& d);
 
 // One line on stderr with the repairs made while loading (degenerate triangles dropped, zero
 // normals replaced), unless quiet or there were none.
