@@ -3,7 +3,7 @@
 #include "scene/topology.h"
 
 #include <algorithm>
-#include <array>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <limits>
@@ -73,60 +73,119 @@ void for_each_group(const std::vector<Side>& sides, Visit&& visit) {
 
 bool finite(const glm::vec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 
-// Position classes: vertices within `tolerance` in every coordinate, transitively. A grid of
-// cells of the tolerance's size: a cell's vertices are all within it, so only the 26 neighbouring
-// cells need distance tests. Returns the class of each vertex (dense ids) and their count.
+// Bit pattern of a coordinate with -0 folded onto +0, so that the two weld together.
+uint32_t coordinate_bits(float value) {
+  uint32_t bits = std::bit_cast<uint32_t>(value);
+  return bits == 0x80000000u ? 0u : bits;
+}
+
+uint64_t mix(uint64_t h) {  // murmur3 finaliser
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdull;
+  h ^= h >> 33;
+  h *= 0xc4ceb9fe1a85ec53ull;
+  h ^= h >> 33;
+  return h;
+}
+
+bool same_bits(const glm::vec3& a, const glm::vec3& b) {
+  return coordinate_bits(a.x) == coordinate_bits(b.x) && coordinate_bits(a.y) == coordinate_bits(b.y) &&
+         coordinate_bits(a.z) == coordinate_bits(b.z);
+}
+
+// An open-addressing table from 64-bit keys to the first of a chain of ids.
+class ChainTable {
+ public:
+  explicit ChainTable(size_t entries) {
+    size_t capacity = 16;
+    while (capacity < 2 * entries) capacity *= 2;
+    keys_.resize(capacity), heads_.assign(capacity, kNone), mask_ = capacity - 1;
+  }
+  // The chain head for `key`, created (kNone) if new.
+  uint32_t& head(uint64_t key) {
+    size_t slot = mix(key) & mask_;
+    while (heads_[slot] != kNone && keys_[slot] != key) slot = (slot + 1) & mask_;
+    keys_[slot] = key;
+    return heads_[slot];
+  }
+  uint32_t find(uint64_t key) const {
+    size_t slot = mix(key) & mask_;
+    while (heads_[slot] != kNone && keys_[slot] != key) slot = (slot + 1) & mask_;
+    return heads_[slot];
+  }
+
+ private:
+  std::vector<uint64_t> keys_;
+  std::vector<uint32_t> heads_;
+  size_t mask_ = 0;
+};
+
+// Position classes: vertices within `tolerance` in every coordinate, transitively. Exact copies
+// first (a hash of the coordinates' bits), then the distinct finite positions in a hashed grid of
+// cells 32 tolerances wide: each is tested against those in the cells its tolerance box overlaps
+// (one to eight). Returns the class of each vertex (dense ids, in order of first appearance) and their count.
 std::vector<uint32_t> position_classes(std::span<const glm::vec3> positions, float tolerance, size_t& class_count) {
   const size_t n = positions.size();
-  DisjointSets sets(n);
-  Bounds bounds;
-  for (const glm::vec3& p : positions)
-    if (finite(p)) bounds.extend(p);
-  if (!bounds.empty()) {
-    const double cell = tolerance > 0.0f ? double(tolerance) : 1.0;  // 0: all finite positions are one point
-    using Cell = std::array<int64_t, 3>;
-    auto cell_of = [&](const glm::vec3& p) {
-      Cell c;
-      for (int k = 0; k < 3; ++k) c[k] = int64_t(std::floor((double(p[k]) - double(bounds.min[k])) / cell));
-      return c;
-    };
-    // Cells per axis stay below 2^20 (the extent is at most 1e5 tolerances): 21 bits each.
-    auto key = [](const Cell& c) { return uint64_t(c[0]) << 42 | uint64_t(c[1]) << 21 | uint64_t(c[2]); };
-    std::vector<std::pair<uint64_t, uint32_t>> order;
-    order.reserve(n);
-    for (uint32_t v = 0; v < n; ++v)
-      if (finite(positions[v])) order.emplace_back(key(cell_of(positions[v])), v);
-    std::sort(order.begin(), order.end());
-    auto cell_range = [&](uint64_t k) {
-      return std::equal_range(order.begin(), order.end(), std::pair<uint64_t, uint32_t>(k, 0),
-                              [](const auto& a, const auto& b) { return a.first < b.first; });
-    };
-    for (size_t i = 0; i < order.size();) {
-      size_t end = i + 1;
-      while (end < order.size() && order[end].first == order[i].first) sets.join(order[i].second, order[end++].second);
-      const Cell c = cell_of(positions[order[i].second]);
-      // Neighbouring cells after this one in key order (each pair of cells is visited once).
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const Cell o = {c[0] + dx, c[1] + dy, c[2] + dz};
-            if (o[0] < 0 || o[1] < 0 || o[2] < 0 || key(o) <= order[i].first) continue;
-            const auto [first, last] = cell_range(key(o));
-            for (auto a = order.begin() + i; a != order.begin() + end; ++a)
-              for (auto b = first; b != last; ++b) {
-                const glm::vec3 d = glm::abs(positions[a->second] - positions[b->second]);
-                if (std::max({d.x, d.y, d.z}) <= tolerance) sets.join(a->second, b->second);
-              }
-          }
-      i = end;
+  // Exact copies: distinct[v] numbers the distinct bit patterns; first_of[d] is the first vertex.
+  std::vector<uint32_t> distinct(n), first_of;
+  {
+    ChainTable table(n);
+    std::vector<uint32_t> next;  // chains of distinct ids whose bits hash alike
+    for (uint32_t v = 0; v < n; ++v) {
+      const glm::vec3& p = positions[v];
+      const uint64_t key = (uint64_t(coordinate_bits(p.x)) << 32 | coordinate_bits(p.y)) ^ mix(coordinate_bits(p.z) + 0x9e3779b97f4a7c15ull);
+      uint32_t& head = table.head(key);
+      uint32_t d = head;
+      while (d != kNone && !same_bits(positions[first_of[d]], p)) d = next[d];
+      if (d == kNone) {
+        d = uint32_t(first_of.size());
+        first_of.push_back(v), next.push_back(head), head = d;
+      }
+      distinct[v] = d;
     }
   }
-  std::vector<uint32_t> classes(n, kNone);
+  // Near copies: the grid over distinct finite positions.
+  DisjointSets sets(first_of.size());
+  Bounds bounds;
+  for (uint32_t v : first_of)
+    if (finite(positions[v])) bounds.extend(positions[v]);
+  if (!bounds.empty() && tolerance > 0.0f) {
+    const double cell = 32.0 * double(tolerance);
+    auto cell_index = [&](double coordinate, int axis) {  // at most 3,126 per axis
+      return uint64_t(std::max(0.0, std::floor((coordinate - double(bounds.min[axis])) / cell)));
+    };
+    auto key = [](uint64_t x, uint64_t y, uint64_t z) { return x << 42 | y << 21 | z; };
+    ChainTable grid(first_of.size());
+    std::vector<uint32_t> next(first_of.size(), kNone);
+    for (uint32_t d = 0; d < first_of.size(); ++d) {
+      const glm::vec3& p = positions[first_of[d]];
+      if (!finite(p)) continue;
+      uint32_t& head = grid.head(key(cell_index(p.x, 0), cell_index(p.y, 1), cell_index(p.z, 2)));
+      next[d] = head, head = d;
+    }
+    for (uint32_t d = 0; d < first_of.size(); ++d) {
+      const glm::vec3& p = positions[first_of[d]];
+      if (!finite(p)) continue;
+      uint64_t lo[3], hi[3];
+      for (int axis = 0; axis < 3; ++axis)
+        lo[axis] = cell_index(double(p[axis]) - tolerance, axis), hi[axis] = cell_index(double(p[axis]) + tolerance, axis);
+      for (uint64_t x = lo[0]; x <= hi[0]; ++x)
+        for (uint64_t y = lo[1]; y <= hi[1]; ++y)
+          for (uint64_t z = lo[2]; z <= hi[2]; ++z)
+            for (uint32_t e = grid.find(key(x, y, z)); e != kNone; e = next[e]) {
+              if (e <= d) continue;  // each pair once
+              const glm::vec3 gap = glm::abs(positions[first_of[e]] - p);
+              if (std::max({gap.x, gap.y, gap.z}) <= tolerance) sets.join(d, e);
+            }
+    }
+  }
+  std::vector<uint32_t> class_of_root(first_of.size(), kNone);
+  std::vector<uint32_t> classes(n);
   class_count = 0;
   for (uint32_t v = 0; v < n; ++v) {
-    const uint32_t root = sets.find(v);
-    if (classes[root] == kNone) classes[root] = uint32_t(class_count++);
-    classes[v] = classes[root];
+    uint32_t& c = class_of_root[sets.find(distinct[v])];
+    if (c == kNone) c = uint32_t(class_count++);
+    classes[v] = c;
   }
   return classes;
 }
@@ -194,7 +253,12 @@ float weld_tolerance(std::span<const glm::vec3> positions) {
   return float(std::max(1e-5 * diagonal, 8.0 * double(std::numeric_limits<float>::epsilon()) * largest));
 }
 
-Weld weld_mesh(std::span<const glm::vec3> positions, std::span<const glm::uvec3> triangles) {
+namespace {
+
+// weld_mesh, and the sides grouped by welded vertex when they come for free: when every position
+// class welded whole, class ids are welded ids and the stitching's grouping is the edge table's.
+Weld weld_with_sides(std::span<const glm::vec3> positions, std::span<const glm::uvec3> triangles,
+                     std::vector<Side>* welded_sides) {
   Weld weld;
   weld.tolerance = weld_tolerance(positions);
   size_t class_count = 0;
@@ -202,7 +266,7 @@ Weld weld_mesh(std::span<const glm::vec3> positions, std::span<const glm::uvec3>
 
   // Stitch: the copies at the ends of sides that pair up join.
   DisjointSets copies(positions.size());
-  const std::vector<Side> sides = grouped_sides(triangles, classes, class_count);
+  std::vector<Side> sides = grouped_sides(triangles, classes, class_count);
   auto end_vertex = [&](const Side& s, uint32_t cls) {
     const glm::uvec3& tri = triangles[s.face];
     const uint32_t v = tri[s.corner];
@@ -244,7 +308,16 @@ Weld weld_mesh(std::span<const glm::vec3> positions, std::span<const glm::uvec3>
     }
   }
   weld.positions.shrink_to_fit();
+  if (welded_sides)
+    *welded_sides = weld.positions.size() == class_count ? std::move(sides)
+                                                         : grouped_sides(triangles, weld.remap, weld.positions.size());
   return weld;
+}
+
+}  // namespace
+
+Weld weld_mesh(std::span<const glm::vec3> positions, std::span<const glm::uvec3> triangles) {
+  return weld_with_sides(positions, triangles, nullptr);
 }
 
 size_t EdgeTable::memory_bytes() const {
@@ -254,8 +327,8 @@ size_t EdgeTable::memory_bytes() const {
 
 EdgeTable build_edge_table(const Mesh& mesh) {
   EdgeTable table;
-  table.weld = weld_mesh(mesh.positions, mesh.triangles);
-  const std::vector<Side> sides = grouped_sides(mesh.triangles, table.weld.remap, table.weld.positions.size());
+  std::vector<Side> sides;
+  table.weld = weld_with_sides(mesh.positions, mesh.triangles, &sides);
   table.edges.reserve(sides.size() / 2 + 1);
   for_each_group(sides, [&](size_t first, size_t last) {
     MeshEdge edge;
