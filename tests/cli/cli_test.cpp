@@ -17,6 +17,7 @@
 #include <sys/wait.h>
 
 #include "gltf_builder.h"
+#include "test_meshes.h"
 #include "image_io.h"
 
 namespace fs = std::filesystem;
@@ -282,6 +283,35 @@ TEST(Cli, RenderReportsRepairsOnOneLineUnlessQuiet) {
   const EpiRun edges = run_epi("edges " + scene.string() + " --eye 0,0,5 --target 0,0,0 -o " + (dir / "e.json").string());
   ASSERT_EXIT_CODE(edges, 0);
   EXPECT_NE(edges.out.find(line), std::string::npos) << edges.out;
+}
+
+// The torus of issue 9 as exporters write it: seam copies from cos/sin of 0 and 2 pi (not
+// bit-identical). An exact weld reported 144 border edges and `epi edges` drew the seam as one.
+TEST(Cli, ExporterTorusIsWeldedWithoutBorders) {
+  const fs::path dir = temp_dir("exporter-torus");
+  const epi::Mesh torus = epi::edges::test::exporter_torus(48, 24);
+  std::vector<uint32_t> indices;
+  for (const glm::uvec3& t : torus.triangles) indices.insert(indices.end(), {t.x, t.y, t.z});
+  epi::test::GltfBuilder b;
+  const int mesh = b.add_mesh("torus", torus.positions, indices);
+  b.set_scene({b.add_node({{"name", "torus"}, {"mesh", mesh}})});
+  const fs::path scene = b.write_gltf(dir / "torus.gltf");
+  const EpiRun info = run_epi("info " + scene.string());
+  ASSERT_EXIT_CODE(info, 0);
+  EXPECT_NE(info.out.find("welded vertices: 1152 (of 1225: 73 copies welded, 73 of them within the tolerance"),
+            std::string::npos) << info.out;
+  EXPECT_EQ(number_after(info.out, "\nborder edges: "), 0) << info.out;
+  EXPECT_NE(info.out.find("object 'torus': mesh 'torus', 2304 triangles, 0 border and 0 non-manifold edges"),
+            std::string::npos) << info.out;
+  const EpiRun edges = run_epi("edges " + scene.string() + " --eye 0,3,2 --target 0,0,0 -o " + (dir / "e.json").string());
+  ASSERT_EXIT_CODE(edges, 0);
+  const json found = read_json(dir / "e.json");
+  size_t silhouettes = 0;
+  for (const json& e : found["edges"]) {
+    EXPECT_NE(e["kind"], "border");
+    silhouettes += e["kind"] == "silhouette";
+  }
+  EXPECT_GT(silhouettes, 0u);
 }
 
 // ---------------------------------------------------------------------------------------------
