@@ -19,7 +19,10 @@ std::vector<float> display_values(const RgbImage& image, ImageEncoding encoding,
   std::vector<float> display(image.pixels.size());
   for (size_t i = 0; i < display.size(); i += 3) {
     if (encoding == ImageEncoding::display) {
-      for (int c = 0; c < 3; ++c) display[i + c] = std::clamp(linear_to_srgb(image.pixels[i + c]), 0.0f, 1.0f);
+      for (int c = 0; c < 3; ++c) {  // NaN as 0 and infinities clamped, as the tone map treats them
+        const float v = image.pixels[i + c];
+        display[i + c] = linear_to_srgb(std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f));
+      }
     } else {
       float mapped[3];
       tone_map(&image.pixels[i], exposure, mapped);
