@@ -70,6 +70,8 @@ int run_render_frames(const RenderOptions& options);
 struct CompareOptions {
   std::string image, reference;
   std::string json;        // FILE, empty: none
+  std::string diff;        // difference image to write, empty: none
+  float diff_scale = 4.0f;
   float exposure = 0.0f;   // stops, for linear images on their way to display space
 };
 int run_compare(const CompareOptions& options);

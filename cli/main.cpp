@@ -163,6 +163,10 @@ int main(int argc, char** argv) {
   compare_cmd->add_option("image", compare.image, "Image file (.exr linear, .png display-referred)")->required();
   compare_cmd->add_option("reference", compare.reference, "Reference image of the same size")->required();
   compare_cmd->add_option("--json", compare.json, "Write the metrics as JSON");
+  compare_cmd->add_option("--diff", compare.diff, "Write the display difference, per channel, times --diff-scale, as an image");
+  compare_cmd->add_option("--diff-scale", compare.diff_scale, "Factor on the difference image")
+      ->check(CLI::Range(0.001f, 1000.0f))
+      ->capture_default_str();
   compare_cmd->add_option("--exposure", compare.exposure, "Exposure in stops taking linear images to display space, as for PNG output")
       ->check(CLI::Range(-32.0f, 32.0f))
       ->capture_default_str();

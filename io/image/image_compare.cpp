@@ -32,6 +32,14 @@ std::vector<float> display_values(const RgbImage& image, ImageEncoding encoding,
   return display;
 }
 
+void check_sizes(const RgbImage& image, const RgbImage& reference) {
+  if (image.width <= 0 || image.height <= 0) throw std::invalid_argument("empty image");
+  if (image.width != reference.width || image.height != reference.height)
+    throw std::invalid_argument("size " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                                " differs from the reference's " + std::to_string(reference.width) + "x" +
+                                std::to_string(reference.height));
+}
+
 }  // namespace
 
 ImageEncoding encoding_of_file(const std::filesystem::path& file) {
@@ -40,11 +48,7 @@ ImageEncoding encoding_of_file(const std::filesystem::path& file) {
 
 ImageDifference compare_images(const RgbImage& image, ImageEncoding image_encoding, const RgbImage& reference,
                                ImageEncoding reference_encoding, float exposure_stops) {
-  if (image.width <= 0 || image.height <= 0) throw std::invalid_argument("empty image");
-  if (image.width != reference.width || image.height != reference.height)
-    throw std::invalid_argument("size " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                                " differs from the reference's " + std::to_string(reference.width) + "x" +
-                                std::to_string(reference.height));
+  check_sizes(image, reference);
   ImageDifference d;
   d.width = image.width, d.height = image.height;
 
@@ -70,6 +74,18 @@ ImageDifference compare_images(const RgbImage& image, ImageEncoding image_encodi
   }
   d.relative_mse = sum / double(image.pixels.size());
   return d;
+}
+
+RgbImage difference_image(const RgbImage& image, ImageEncoding image_encoding, const RgbImage& reference,
+                          ImageEncoding reference_encoding, float exposure_stops, float scale) {
+  check_sizes(image, reference);
+  const std::vector<float> a = display_values(image, image_encoding, exposure_stops);
+  const std::vector<float> b = display_values(reference, reference_encoding, exposure_stops);
+  RgbImage out(image.width, image.height);
+  // Display values d below the tone map's knee (linear 0.8) come back from a PNG exactly (to 8 bits);
+  // above it, the shoulder compresses them a little.
+  for (size_t i = 0; i < a.size(); ++i) out.pixels[i] = srgb_to_linear(std::min(1.0f, std::fabs(a[i] - b[i]) * scale));
+  return out;
 }
 
 }  // namespace epi

@@ -29,4 +29,10 @@ struct ImageDifference {
 ImageDifference compare_images(const RgbImage& image, ImageEncoding image_encoding, const RgbImage& reference,
                                ImageEncoding reference_encoding, float exposure_stops = 0.0f);
 
+// The display difference as an image to look at: per channel |display(image) - display(reference)|
+// times `scale`, clamped to 1, returned as linear values that a PNG (at exposure 0) shows as those
+// display values. Throws as compare_images.
+RgbImage difference_image(const RgbImage& image, ImageEncoding image_encoding, const RgbImage& reference,
+                          ImageEncoding reference_encoding, float exposure_stops = 0.0f, float scale = 1.0f);
+
 }  // namespace epi

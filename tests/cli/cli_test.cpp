@@ -616,6 +616,17 @@ TEST(Cli, CompareGivesTheKnownDifferences) {
     for (const char* key : {"display_rmse", "relative_mse", "over_0_1", "over_0_2", "max_display_error"})
       EXPECT_EQ(s[key].get<double>(), 0.0) << key;
   }
+  // The difference image: display difference times --diff-scale, as linear values for EXR.
+  const EpiRun diff = run_epi("compare " + (dir / "image.exr").string() + " " + (dir / "reference.exr").string() +
+                              " --diff " + (dir / "d.exr").string() + " --diff-scale 2");
+  ASSERT_EXIT_CODE(diff, 0);
+  const epi::RgbImage d = epi::read_image(dir / "d.exr");
+  EXPECT_NEAR(epi::linear_to_srgb(d.pixels[3 * 3 + 1]), 2.0 * 38.0 / 255.0, 1e-5);
+  EXPECT_NEAR(epi::linear_to_srgb(d.pixels[57 * 3 + 0]), 2.0 * 64.0 / 255.0, 1e-5);
+  EXPECT_EQ(std::count(d.pixels.begin(), d.pixels.end(), 0.0f), long(d.pixels.size()) - 2);
+  EXPECT_EXIT_CODE(run_epi("compare " + (dir / "image.exr").string() + " " + (dir / "reference.exr").string() +
+                           " --diff " + (dir / "image.exr").string()),
+                   kFailed);  // an input is never overwritten
   // A linear image against its display-referred copy: display space is where they meet.
   const EpiRun mixed = run_epi("compare " + (dir / "image.exr").string() + " " + (dir / "image.png").string() +
                                " --json " + (dir / "m.json").string());
