@@ -108,11 +108,6 @@ class ChainTable {
     keys_[slot] = key;
     return heads_[slot];
   }
-  uint32_t find(uint64_t key) const {
-    size_t slot = mix(key) & mask_;
-    while (heads_[slot] != kNone && keys_[slot] != key) slot = (slot + 1) & mask_;
-    return heads_[slot];
-  }
 
  private:
   std::vector<uint64_t> keys_;
@@ -121,9 +116,8 @@ class ChainTable {
 };
 
 // Position classes: vertices within `tolerance` in every coordinate, transitively. Exact copies
-// first (a hash of the coordinates' bits), then the distinct finite positions in a hashed grid of
-// cells 32 tolerances wide: each is tested against those in the cells its tolerance box overlaps
-// (one to eight). Returns the class of each vertex (dense ids, in order of first appearance) and their count.
+// first (a hash of the coordinates' bits), then the distinct finite positions on a grid of cells
+// 32 tolerances wide: each is tested against those in the cells its tolerance box overlaps. Returns the class of each vertex (dense ids, in order of first appearance) and their count.
 std::vector<uint32_t> position_classes(std::span<const glm::vec3> positions, float tolerance, size_t& class_count) {
   const size_t n = positions.size();
   // Exact copies: distinct[v] numbers the distinct bit patterns; first_of[d] is the first vertex.
@@ -155,28 +149,46 @@ std::vector<uint32_t> position_classes(std::span<const glm::vec3> positions, flo
       return uint64_t(std::max(0.0, std::floor((coordinate - double(bounds.min[axis])) / cell)));
     };
     auto key = [](uint64_t x, uint64_t y, uint64_t z) { return x << 42 | y << 21 | z; };
-    ChainTable grid(first_of.size());
-    std::vector<uint32_t> next(first_of.size(), kNone);
+    // The positions sorted by cell: a cell's positions are one run. Each position is tested
+    // against the rest of its run, and, where its tolerance box crosses into cells of higher key
+    // (rarely: cells are 32 tolerances wide), against those found by binary search. A pair is
+    // found from its lower cell only: the boxes of two positions within the tolerance overlap
+    // each other's cells.
+    struct Entry {
+      uint64_t key;
+      uint32_t distinct;
+    };
+    std::vector<Entry> entries;
+    entries.reserve(first_of.size());
     for (uint32_t d = 0; d < first_of.size(); ++d) {
       const glm::vec3& p = positions[first_of[d]];
-      if (!finite(p)) continue;
-      uint32_t& head = grid.head(key(cell_index(p.x, 0), cell_index(p.y, 1), cell_index(p.z, 2)));
-      next[d] = head, head = d;
+      if (finite(p)) entries.push_back({key(cell_index(p.x, 0), cell_index(p.y, 1), cell_index(p.z, 2)), d});
     }
-    for (uint32_t d = 0; d < first_of.size(); ++d) {
+    std::sort(entries.begin(), entries.end(),
+              [](const Entry& x, const Entry& y) { return x.key != y.key ? x.key < y.key : x.distinct < y.distinct; });
+    auto test_run = [&](const glm::vec3& p, uint32_t d, size_t from, uint64_t k) {
+      for (size_t j = from; j < entries.size() && entries[j].key == k; ++j) {
+        const glm::vec3 gap = glm::abs(positions[first_of[entries[j].distinct]] - p);
+        if (std::max({gap.x, gap.y, gap.z}) <= tolerance) sets.join(d, entries[j].distinct);
+      }
+    };
+    for (size_t i = 0; i < entries.size(); ++i) {
+      const uint32_t d = entries[i].distinct;
       const glm::vec3& p = positions[first_of[d]];
-      if (!finite(p)) continue;
+      test_run(p, d, i + 1, entries[i].key);
       uint64_t lo[3], hi[3];
       for (int axis = 0; axis < 3; ++axis)
         lo[axis] = cell_index(double(p[axis]) - tolerance, axis), hi[axis] = cell_index(double(p[axis]) + tolerance, axis);
+      if (lo[0] == hi[0] && lo[1] == hi[1] && lo[2] == hi[2]) continue;  // inside its cell
       for (uint64_t x = lo[0]; x <= hi[0]; ++x)
         for (uint64_t y = lo[1]; y <= hi[1]; ++y)
-          for (uint64_t z = lo[2]; z <= hi[2]; ++z)
-            for (uint32_t e = grid.find(key(x, y, z)); e != kNone; e = next[e]) {
-              if (e <= d) continue;  // each pair once
-              const glm::vec3 gap = glm::abs(positions[first_of[e]] - p);
-              if (std::max({gap.x, gap.y, gap.z}) <= tolerance) sets.join(d, e);
-            }
+          for (uint64_t z = lo[2]; z <= hi[2]; ++z) {
+            const uint64_t k = key(x, y, z);
+            if (k <= entries[i].key) continue;
+            const auto first = std::lower_bound(entries.begin(), entries.end(), k,
+                                                [](const Entry& e, uint64_t value) { return e.key < value; });
+            test_run(p, d, size_t(first - entries.begin()), k);
+          }
     }
   }
   std::vector<uint32_t> class_of_root(first_of.size(), kNone);
