@@ -176,33 +176,50 @@ TEST(Weld, ExporterTorusIsClosed) {
   }
 }
 
-// A closed mesh exploded into a triangle soup, each copy moved by a few float ulps (an exporter
-// writing each face's corners on its own): the weld rebuilds the original indexing exactly.
+// A closed mesh exploded into a triangle soup, each copy moved on its own: by a few float ulps
+// (an exporter writing each face's corners separately), or by up to 0.45 tolerances per
+// coordinate (so some copies of a vertex fall into different grid cells of the weld's search).
+// The weld rebuilds the original indexing exactly.
 TEST(Weld, SoupWithRoundingRebuildsTheMesh) {
   std::mt19937 rng(3);
   const Mesh indexed = edges::test::torus(40, 20);
-  Mesh soup;
-  std::vector<uint32_t> original;
-  for (const glm::uvec3& t : indexed.triangles) {
-    for (int k = 0; k < 3; ++k) {
-      glm::vec3 p = indexed.positions[t[k]];
-      for (int axis = 0; axis < 3; ++axis)
-        for (int step = int(rng() % 7) - 3; step != 0; step += step > 0 ? -1 : 1)
-          p[axis] = std::nextafter(p[axis], step > 0 ? 10.0f : -10.0f);
-      soup.positions.push_back(p);
-      original.push_back(t[k]);
+  const float tolerance = weld_tolerance(indexed.positions);
+  for (const bool by_tolerance : {false, true}) {
+    std::uniform_real_distribution<float> offset(-0.45f * tolerance, 0.45f * tolerance);
+    Mesh soup;
+    std::vector<uint32_t> original;
+    for (const glm::uvec3& t : indexed.triangles) {
+      for (int k = 0; k < 3; ++k) {
+        glm::vec3 p = indexed.positions[t[k]];
+        for (int axis = 0; axis < 3; ++axis) {
+          if (by_tolerance) {
+            p[axis] += offset(rng);
+            continue;
+          }
+          for (int step = int(rng() % 7) - 3; step != 0; step += step > 0 ? -1 : 1)
+            p[axis] = std::nextafter(p[axis], step > 0 ? 10.0f : -10.0f);
+        }
+        soup.positions.push_back(p);
+        original.push_back(t[k]);
+      }
+      const uint32_t base = uint32_t(soup.positions.size() - 3);
+      soup.triangles.emplace_back(base, base + 1, base + 2);
     }
-    const uint32_t base = uint32_t(soup.positions.size() - 3);
-    soup.triangles.emplace_back(base, base + 1, base + 2);
+    const EdgeTable table = build_edge_table(soup);
+    ASSERT_NEAR(table.weld.tolerance, tolerance, 1e-3f * tolerance);
+    expect_well_formed(soup, table.weld);
+    // A bijection between original and welded vertices.
+    EXPECT_EQ(table.weld.positions.size(), indexed.positions.size()) << by_tolerance;
+    std::vector<uint32_t> welded_of(indexed.positions.size(), kNone);
+    for (size_t a = 0; a < soup.positions.size(); ++a) {
+      if (welded_of[original[a]] == kNone) welded_of[original[a]] = table.weld.remap[a];
+      ASSERT_EQ(table.weld.remap[a], welded_of[original[a]]) << a << " " << by_tolerance;
+    }
+    std::sort(welded_of.begin(), welded_of.end());
+    EXPECT_EQ(std::unique(welded_of.begin(), welded_of.end()), welded_of.end());
+    EXPECT_EQ(table.border_edges, 0u);
+    EXPECT_EQ(table.non_manifold_edges, 0u);
   }
-  const EdgeTable table = build_edge_table(soup);
-  expect_well_formed(soup, table.weld);
-  EXPECT_EQ(table.weld.positions.size(), indexed.positions.size());
-  for (size_t a = 0; a < soup.positions.size(); ++a)
-    for (size_t b = a + 1; b < soup.positions.size(); b += 7)  // a sample of the pairs
-      ASSERT_EQ(table.weld.remap[a] == table.weld.remap[b], original[a] == original[b]) << a << " " << b;
-  EXPECT_EQ(table.border_edges, 0u);
-  EXPECT_EQ(table.non_manifold_edges, 0u);
 }
 
 // A UV sphere whose south pole copies come from sin(pi) != 0: they weld, the pole's sliver
