@@ -268,7 +268,9 @@ TEST(Weld, TouchingBoxesStayClosedAndApart) {
     const char* name;
     glm::vec3 offset;  // of the second unit box
   };
-  for (const Case& c : {Case{"face", {0, 1, 0}}, Case{"edge", {1, 1, 0}}, Case{"corner", {1, 1, 1}}}) {
+  for (const Case& c : {Case{"face +y", {0, 1, 0}}, Case{"face -y", {0, -1, 0}}, Case{"face +x", {1, 0, 0}},
+                        Case{"face -z", {0, 0, -1}}, Case{"edge", {1, 1, 0}}, Case{"edge -x +z", {-1, 0, 1}},
+                        Case{"corner", {1, 1, 1}}}) {
     Mesh boxes = edges::test::box({0, 0, 0}, {1, 1, 1});
     const Mesh second = edges::test::box(c.offset, c.offset + glm::vec3(1));
     const uint32_t base = uint32_t(boxes.positions.size());
