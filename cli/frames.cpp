@@ -200,12 +200,16 @@ int run_render_frames(const RenderOptions& options) {
   image = nullptr;
   renderer.reset();
   std::optional<double> raytrace_ms;
+  std::optional<ImageDifference> raytrace_difference;  // the ray trace's own error, for comparison
   if (options.speedup) {
     View last;
     last.camera = path.camera_at(options.frames - 1), last.width = options.width, last.height = options.height;
     const auto t = Clock::now();
-    render_image(shader, last, 1);
+    const RgbImage traced = render_image(shader, last, 1);
     raytrace_ms = ms_since(t);
+    if (reference)
+      raytrace_difference =
+          compare_images(traced, ImageEncoding::linear, reference->image, reference->encoding, options.exposure);
   }
 
   const double frame_ms = median(series.total);
@@ -239,6 +243,8 @@ int run_render_frames(const RenderOptions& options) {
                 options.shader.c_str(), *raytrace_ms, frame_ms, options.sync ? "" : " (shading asynchronous)",
                 frame_ms > 0.0 ? *raytrace_ms / frame_ms : 0.0);
   if (difference) std::printf("  against %s: %s\n", options.reference.c_str(), difference_line(*difference).c_str());
+  if (raytrace_difference)
+    std::printf("  the 1-spp ray trace against it: %s\n", difference_line(*raytrace_difference).c_str());
 
   if (!options.stats.empty()) {
     nlohmann::json stats = {
@@ -292,6 +298,7 @@ int run_render_frames(const RenderOptions& options) {
       stats["reference"] = difference_json(*difference);
       stats["reference"]["file"] = options.reference;
     }
+    if (raytrace_difference) stats["raytrace_reference"] = difference_json(*raytrace_difference);
     outputs.add_json(options.stats, stats);
   }
   outputs.commit();

@@ -202,13 +202,14 @@ TEST(FramesCli, EveryFrameNameIsCheckedBeforeAnyWork) {
 // before any work.
 TEST(FramesCli, ReferenceMetricsAndSpeedUp) {
   const fs::path dir = temp_dir();
-  const std::string base = "render " + kScene + kSmall + " --sync --seed 3";
+  const std::string still = " --fov 40";  // the scene camera, still: one view for the reference and every run
+  const std::string base = "render " + kScene + kSmall + still + " --sync --seed 3";
   const EpiRun reference = run_epi("render " + kScene + " --mode raytrace --size 48x40 --quiet -o " + (dir / "ref.exr").string() +
                                    " --reference " + (dir / "missing.exr").string());
   EXPECT_EQ(reference.exit_code, 1) << reference.out;  // a missing reference: before any work
   EXPECT_NE(reference.out.find("missing.exr: no such file"), std::string::npos) << reference.out;
   EXPECT_FALSE(fs::exists(dir / "ref.exr"));
-  ASSERT_EQ(run_epi("render " + kScene + " --mode raytrace --size 48x40 --seed 3 --quiet -o " + (dir / "ref.exr").string()).exit_code, 0);
+  ASSERT_EQ(run_epi("render " + kScene + still + " --mode raytrace --size 48x40 --seed 3 --quiet -o " + (dir / "ref.exr").string()).exit_code, 0);
 
   for (const char* mode : {"epi", "rendercache", "raytrace"}) {
     const EpiRun run = run_epi(base + " --mode " + mode + " -o " + (dir / "a.exr").string() + " --stats " +
@@ -232,6 +233,9 @@ TEST(FramesCli, ReferenceMetricsAndSpeedUp) {
     EXPECT_NEAR(stats["speedup"].get<double>(),
                 stats["raytrace_1spp_ms"].get<double>() / stats["stages_ms"]["total"].get<double>(), 1e-9);
     EXPECT_NE(run.out.find("speed-up over a 1-spp ray trace of the last view (direct shader): "), std::string::npos) << run.out;
+    // The timed ray trace is the reference itself (same view, shader and seed): no error.
+    EXPECT_NE(run.out.find("the 1-spp ray trace against it: display RMSE 0.0000"), std::string::npos) << run.out;
+    EXPECT_EQ(stats["raytrace_reference"]["display_rmse"].get<double>(), 0.0) << mode;
   }
   const EpiRun skipped = run_epi(base + " --no-speedup -o " + (dir / "b.png").string() + " --stats " + (dir / "b.json").string());
   ASSERT_EQ(skipped.exit_code, 0) << skipped.out;
