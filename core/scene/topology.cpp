@@ -117,7 +117,8 @@ class ChainTable {
 
 // Position classes: vertices within `tolerance` in every coordinate, transitively. Exact copies
 // first (a hash of the coordinates' bits), then the distinct finite positions on a grid of cells
-// 32 tolerances wide: each is tested against those in the cells its tolerance box overlaps. Returns the class of each vertex (dense ids, in order of first appearance) and their count.
+// 32 tolerances wide: each is tested against those in the cells its tolerance box overlaps.
+// Returns the class of each vertex (dense ids, in order of first appearance) and their count.
 std::vector<uint32_t> position_classes(std::span<const glm::vec3> positions, float tolerance, size_t& class_count) {
   const size_t n = positions.size();
   // Exact copies: distinct[v] numbers the distinct bit patterns; first_of[d] is the first vertex.
@@ -127,7 +128,8 @@ std::vector<uint32_t> position_classes(std::span<const glm::vec3> positions, flo
     std::vector<uint32_t> next;  // chains of distinct ids whose bits hash alike
     for (uint32_t v = 0; v < n; ++v) {
       const glm::vec3& p = positions[v];
-      const uint64_t key = (uint64_t(coordinate_bits(p.x)) << 32 | coordinate_bits(p.y)) ^ mix(coordinate_bits(p.z) + 0x9e3779b97f4a7c15ull);
+      const uint64_t key =
+          (uint64_t(coordinate_bits(p.x)) << 32 | coordinate_bits(p.y)) ^ mix(coordinate_bits(p.z) + 0x9e3779b97f4a7c15ull);
       uint32_t& head = table.head(key);
       uint32_t d = head;
       while (d != kNone && !same_bits(positions[first_of[d]], p)) d = next[d];
