@@ -1,6 +1,5 @@
 // `epi compare IMAGE REFERENCE`: how far an image is from a reference (io/image/image_compare.h).
 #include <cstdio>
-#include <filesystem>
 #include <stdexcept>
 
 #include "commands.h"
@@ -12,10 +11,7 @@ int run_compare(const CompareOptions& options) {
   if (!options.json.empty()) check_output_file(options.json);
   if (!options.diff.empty()) check_output_image(options.diff);
   check_distinct_outputs({options.json, options.diff});
-  for (const std::string& output : {options.json, options.diff})
-    for (const std::string& input : {options.image, options.reference})
-      if (!output.empty() && std::filesystem::weakly_canonical(output) == std::filesystem::weakly_canonical(input))
-        throw std::runtime_error(output + ": names an input image");
+  for (const std::string& input : {options.image, options.reference}) check_not_input({options.json, options.diff}, input);
   const ReferenceImage image = read_reference(options.image);
   const ReferenceImage reference = read_reference(options.reference, image.image.width, image.image.height);
   const ImageDifference d =

@@ -91,6 +91,7 @@ int run_render_frames(const RenderOptions& options) {
       check_output_image(outputs_named.back());
     }
   check_distinct_outputs(outputs_named);
+  check_not_input(outputs_named, options.reference);
   const ShaderSettings shader_settings_ = shader_settings(options);
   std::optional<ReferenceImage> reference;  // read and its size checked before work
   if (!options.reference.empty()) reference = read_reference(options.reference, options.width, options.height);

@@ -69,6 +69,14 @@ void check_output_image(const fs::path& file) {
   check_output_file(file);
 }
 
+void check_not_input(const std::vector<std::string>& outputs, const std::string& input) {
+  if (input.empty()) return;
+  std::error_code ec;
+  const fs::path in = fs::weakly_canonical(input, ec);
+  for (const std::string& output : outputs)
+    if (!output.empty() && fs::weakly_canonical(output, ec) == in) throw std::runtime_error(output + ": names an input");
+}
+
 ReferenceImage read_reference(const std::string& file, int width, int height) {
   std::error_code ec;
   if (!fs::exists(file, ec)) throw std::runtime_error(file + ": no such file");

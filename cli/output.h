@@ -42,6 +42,8 @@ class ProgressBar {
 void check_output_file(const std::filesystem::path& file);
 // Throws "<file>: given for two outputs" if two of the non-empty paths name the same file.
 void check_distinct_outputs(const std::vector<std::string>& files);
+// Throws "<file>: names an input" if one of the non-empty outputs is the file `input`.
+void check_not_input(const std::vector<std::string>& outputs, const std::string& input);
 // The same, plus a supported image extension (io/image).
 void check_output_image(const std::filesystem::path& file);
 

@@ -72,6 +72,7 @@ int run_render(const RenderOptions& options) {
   check_output_image(options.output);
   if (!options.stats.empty()) check_output_file(options.stats);
   check_distinct_outputs({options.output, options.stats});
+  check_not_input({options.output, options.stats}, options.reference);
   const ShaderSettings settings = shader_settings(options);
   std::optional<ReferenceImage> reference;  // read and its size checked before work
   if (!options.reference.empty()) reference = read_reference(options.reference, options.width, options.height);

@@ -245,6 +245,11 @@ TEST(FramesCli, ReferenceMetricsAndSpeedUp) {
   EXPECT_TRUE(stats["raytrace_1spp_ms"].is_null());
   EXPECT_FALSE(stats.contains("reference"));
 
+  // The output may not overwrite the reference.
+  const EpiRun onto = run_epi(base + " -o " + (dir / "ref.exr").string() + " --reference " + (dir / "ref.exr").string());
+  EXPECT_EQ(onto.exit_code, 1) << onto.out;
+  EXPECT_NE(onto.out.find("ref.exr: names an input"), std::string::npos) << onto.out;
+
   // A reference of another size: one line naming it and both sizes, nothing written.
   const EpiRun mismatch = run_epi("render " + kScene + " --size 32x40 --frames 2 --sync --quiet -o " + (dir / "m.png").string() +
                                   " --reference " + (dir / "ref.exr").string());
