@@ -10,6 +10,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include "epi/interpolate.h"
+#include "render/hole_fill.h"
 #include "render/sampling.h"
 
 namespace epi::render {
@@ -29,16 +31,17 @@ bool same_camera(const Camera& a, const Camera& b) {
   return a.eye == b.eye && a.target == b.target && a.up == b.up && a.yfov_degrees == b.yfov_degrees;
 }
 
-// Pixels crossed by the edge pieces, sampled every 1/8 pixel along each: kGeometricEdge where a
-// silhouette, sharp or border edge crosses (the visible surface's depth may jump there), kShadowEdge
-// where an umbral, penumbral or shadow edge does.
+// Pixels crossed by the edge pieces, sampled every 1/8 pixel along each: kDepthEdge where a
+// silhouette or border crosses, kSharpEdge where a sharp edge does, kShadowEdge where an umbral,
+// penumbral or shadow edge does.
 void mark_edge_pixels(std::span<const Segment> segments, std::span<const edges::EdgeKind> kinds, int w, int h,
                       std::vector<uint8_t>& mask) {
   mask.assign(size_t(w) * size_t(h), 0);
   for (size_t k = 0; k < segments.size(); ++k) {
-    const bool geometric =
-        kinds[k] == edges::EdgeKind::silhouette || kinds[k] == edges::EdgeKind::sharp || kinds[k] == edges::EdgeKind::border;
-    const uint8_t bit = geometric ? kGeometricEdge : kShadowEdge;
+    const edges::EdgeKind kind = kinds[k];
+    const uint8_t bit = kind == edges::EdgeKind::silhouette || kind == edges::EdgeKind::border ? kDepthEdge
+                        : kind == edges::EdgeKind::sharp                                       ? kSharpEdge
+                                                                                               : kShadowEdge;
     const Segment& s = segments[k];
     const int steps = 1 + int(8.0 * std::hypot(double(s.x1) - double(s.x0), double(s.y1) - double(s.y0)));
     for (int j = 0; j <= steps; ++j) {
@@ -300,7 +303,10 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
     async_->take_results(batch);
   }
   integrate(batch);
-  stats_.points = cache_.project(frame, transforms_);
+  // Epi mode: the depth cull waits for the edges (it must spare the far side of silhouettes), and
+  // the edge-aware occlusion test follows it (docs/render.md, "Hidden points").
+  const bool edge_aware = settings_.mode == RenderMode::epi && settings_.occlusion_test && finder_ && settings_.view_edges;
+  stats_.points = cache_.project(frame, transforms_, !edge_aware);
   stats_.ms.points = ms_since(t) - sampling_ms - stats_.ms.shade;
 
   // Edges (epi mode), then the points they show hidden.
@@ -313,9 +319,10 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   t = Clock::now();
   if (settings_.mode == RenderMode::epi) {
     mark_edge_pixels(segments_, segment_kinds_, settings_.width, settings_.height, edge_pixels_);
-    if (settings_.occlusion_test && finder_ && settings_.view_edges) {
+    if (edge_aware) {
+      stats_.points.culled = cache_.depth_cull(edge_pixels_);
       stats_.points.occluded = cache_.cull_behind_surfaces(frame, transforms_, edge_pixels_);
-      stats_.points.drawn -= stats_.points.occluded;
+      stats_.points.drawn -= stats_.points.culled + stats_.points.occluded;
     }
     // A pixel an edge crosses keeps one side's sample: averaging results from both sides there
     // would blend what anti-aliasing blends again.
@@ -331,15 +338,31 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   rs.complex_filter = settings_.complex_filter;
   ReconstructTimes rt;
   if (settings_.stage_timings) {
-    reconstructor_.run(epi_, masks_, rs, reconstruction_, rt);
+    reconstructor_.staged(epi_, masks_, rs, reconstruction_, rt);
   } else {
     const auto tr = Clock::now();
-    reconstruct_tiled(epi_, masks_, rs, Schedule{}, reconstruction_);
-    rt.interpolate = ms_since(tr);
+    reconstructor_.tiled(epi_, masks_, rs, Schedule{}, reconstruction_);
+    rt[Stage::interpolate] = ms_since(tr);
   }
-  stats_.ms.classify = rt.classify, stats_.ms.reachability = rt.reachability, stats_.ms.interpolate = rt.interpolate;
-  stats_.ms.antialias = rt.antialias, stats_.ms.complex = rt.complex;
+  stats_.ms.classify = rt.reported(Stage::classify), stats_.ms.reachability = rt.reported(Stage::reachability);
+  stats_.ms.interpolate = rt.reported(Stage::interpolate), stats_.ms.antialias = rt.reported(Stage::antialias);
+  stats_.ms.complex = rt.reported(Stage::complex);
   stats_.pixels = reconstruction_.counts;
+
+  // Epi mode: pixels that reached no sample (black, top priority) filled from their own region.
+  if (settings_.mode == RenderMode::epi && settings_.fill_holes) {
+    const auto tf = Clock::now();
+    const size_t n = reconstruction_.priority.size();
+    holes_.assign(n, 0);
+    barrier_.assign(n, 0);
+    const float* rgb = reconstruction_.image.pixels.data();
+    for (size_t i = 0; i < n; ++i) {
+      holes_[i] = reconstruction_.priority[i] >= kMaxPriority && rgb[3 * i] == 0.0f && rgb[3 * i + 1] == 0.0f && rgb[3 * i + 2] == 0.0f;
+      barrier_[i] = (edge_pixels_[i] & (kDepthEdge | kSharpEdge)) != 0;
+    }
+    stats_.holes_filled = fill_holes(reconstruction_.image, holes_, barrier_);
+    stats_.ms.interpolate += ms_since(tf);
+  }
 
   // Async: the next requests from this frame's priority; stale ones are dropped.
   if (async_) {
