@@ -13,7 +13,7 @@
 
 #include <glm/glm.hpp>
 
-#include "shade/shader.h"
+#include "render_options.h"
 
 namespace epi {
 struct Scene;
@@ -22,45 +22,13 @@ struct Camera;
 
 namespace epi::cli {
 
-struct CameraOverride {
-  std::optional<glm::vec3> eye, target, up;
-  std::optional<float> fov_degrees;
-};
-
-// The scene's default camera with the command line's --eye/--target/--up/--fov applied.
-Camera apply_camera_override(const Scene& scene, const CameraOverride& override_);
-
 struct InfoOptions {
   std::string scene;
   int subdiv_level = -1;  // -1: as the scene says
 };
 int run_info(const InfoOptions& options);
 
-struct RenderOptions {
-  std::string scene;
-  std::string mode = "epi";  // epi | rendercache (the frame loop) | raytrace | reference
-  int width = 512, height = 512;
-  int spp = 16;
-  std::string shader = "direct";  // direct | glossy | gi
-  ShaderSettings shading;         // sample counts from the command line; kind and seed from the two fields above/below
-  uint64_t seed = 1;
-  int threads = 0;  // 0: all cores
-  std::string output = "out.png";
-  std::string stats;  // JSON file, empty: none
-  float exposure = 0.0f;  // stops, for 8-bit outputs (io/image tone map)
-  bool quiet = false;
-  int subdiv_level = -1;
-  CameraOverride camera;
-  // The frame loop (modes epi and rendercache):
-  int frames = 60;
-  bool sync = false;           // shade exactly the budget each frame (deterministic)
-  double sample_budget = 0.02; // fraction of the pixels requested per frame
-  std::string camera_path;     // file of camera keys per frame; empty: the scene's path, else still
-  std::string frames_out;      // printf-style pattern for every frame's image, e.g. out/f%04d.png
-};
 int run_render(const RenderOptions& options);
-// The shader settings a render asks for (kind, seed and sample counts).
-ShaderSettings shader_settings(const RenderOptions& options);
 // The frame loop behind `render --mode epi|rendercache` (cli/frames.cpp).
 int run_render_frames(const RenderOptions& options);
 
