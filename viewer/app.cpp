@@ -731,12 +731,13 @@ void Viewer::take_newest_frame() {
     pending_inputs_.pop_front();
   }
   // Picks: a drag waiting for one starts now; a click selects.
-  if (frame_.pick.id != 0 && frame_.pick.id != last_pick_id_) {
-    last_pick_id_ = frame_.pick.id, last_pick_object_ = frame_.pick.object, last_pick_world_ = frame_.pick.world;
-    if (drag_.kind == Drag::Kind::pending && drag_.pick == frame_.pick.id) {
-      if (frame_.pick.object >= 0 && frame_.pick.object == selected_object_) {
-        drag_.kind = Drag::Kind::object, drag_.index = frame_.pick.object, drag_.grab = frame_.pick.world;
-        drag_.start_transform = input_.objects[size_t(frame_.pick.object)];
+  for (const render::PickResult& pick : frame_.picks) {
+    if (pick.id <= last_pick_id_) continue;
+    last_pick_id_ = pick.id, last_pick_object_ = pick.object, last_pick_world_ = pick.world;
+    if (drag_.kind == Drag::Kind::pending && drag_.pick == pick.id) {
+      if (pick.object >= 0 && pick.object == selected_object_) {
+        drag_.kind = Drag::Kind::object, drag_.index = pick.object, drag_.grab = pick.world;
+        drag_.start_transform = input_.objects[size_t(pick.object)];
         const double x = drag_.x, y = drag_.y;
         cursor(x, y);
       } else {
@@ -745,8 +746,8 @@ void Viewer::take_newest_frame() {
         if (drag_.pending_dx != 0 || drag_.pending_dy != 0) changed_by_user();
       }
     }
-    if (click_pick_ && *click_pick_ == frame_.pick.id) {
-      selected_object_ = frame_.pick.object, selected_light_ = -1;
+    if (click_pick_ && *click_pick_ == pick.id) {
+      selected_object_ = pick.object, selected_light_ = -1;
       click_pick_.reset();
     }
   }

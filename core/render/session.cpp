@@ -48,7 +48,7 @@ bool same_shader(const ShaderSettings& a, const ShaderSettings& b) {
 }
 
 bool same_frame_settings(const FrameSettings& a, const FrameSettings& b) {
-  return a.mode == b.mode && a.width == b.width && a.height == b.height && a.sample_budget == b.sample_budget &&
+  return a.width == b.width && a.height == b.height && a.sample_budget == b.sample_budget &&
          a.sync == b.sync && a.seed == b.seed && a.antialias == b.antialias && a.complex_filter == b.complex_filter &&
          a.stage_timings == b.stage_timings && a.shader_threads == b.shader_threads && a.view_edges == b.view_edges &&
          a.shadow_edges == b.shadow_edges && a.occlusion_culling == b.occlusion_culling;
@@ -208,7 +208,6 @@ void Session::rebuild(const SessionSettings& settings) {
     renderer_ = std::make_unique<FrameRenderer>(scene_, *ray_scene_, *shader_, fs);
   }
   built_ = settings;
-  built_.frame.mode = settings.mode == SessionMode::rendercache ? RenderMode::rendercache : RenderMode::epi;
   passes_ = 0;
   accumulated_for_ = 0;
   reference_done_ = false;
@@ -287,10 +286,16 @@ void Session::run() {
     const auto start = Clock::now();
     SessionFrame& frame = back_;
     frame.error.clear();
+    frame.picks.clear();
     try {
       if (input.settings.needs_rebuild(built_)) rebuild(input.settings);
       render_frame(input, frame);
-      for (const PickRequest& p : picks) answer_pick(p, input, frame.pick);
+      for (const PickRequest& p : picks) {
+        PickResult answer;
+        answer_pick(p, input, answer);
+        picks_answered_.push_back(answer);
+        if (picks_answered_.size() > 16) picks_answered_.erase(picks_answered_.begin());
+      }
     } catch (const std::exception& e) {
       frame.error = e.what();
     }
@@ -308,14 +313,13 @@ void Session::run() {
       rays_mark_ = rays, rays_mark_time_ = Clock::now();
     }
     frame.mrays_per_second = mrays_per_second_;
+    frame.picks = picks_answered_;
     frame.frame_ms = ms_since(start);
     frame.done_time = Clock::now();
     {
       std::lock_guard lock(frame_mutex_);
       frame.number = frames_.load() + 1;
-      const PickResult pick = frame.pick;
       std::swap(front_, back_);
-      back_.pick = pick;
       frames_.store(front_.number);
     }
     frame_ready_.notify_all();

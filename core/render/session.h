@@ -98,7 +98,7 @@ struct SessionFrame {
   size_t cache_points = 0, cache_capacity = 0;
   int passes = 0;               // raytrace: passes accumulated; reference: 1 when done
   PixelProbe probe;
-  PickResult pick;              // the newest pick answered
+  std::vector<PickResult> picks;  // the last 16 picks answered, oldest first
   std::string error;            // a failure of the frame thread (e.g. an unusable camera); empty: none
 };
 
@@ -162,6 +162,7 @@ class Session {
   uint64_t next_sequence_ = 0;
   std::vector<PickRequest> picks_;
   uint64_t next_pick_ = 0;
+  std::vector<PickResult> picks_answered_;  // frame thread only
 
   mutable std::mutex frame_mutex_;
   mutable std::condition_variable frame_ready_;
