@@ -683,7 +683,15 @@ void Viewer::run_script() {
         }
         save_image(c.file);
         break;
-      case K::window_screenshot: window_shots_.push_back(c.file); break;
+      case K::window_screenshot:
+        frame_input(0.0);
+        post_if_changed();
+        if (frame_.input_sequence < posted_sequence_) {
+          --script_at_;
+          return;
+        }
+        window_shots_.push_back(c.file);
+        return;  // taken at the end of this window frame
       case K::quit: quit_ = true; return;
     }
   }
@@ -848,9 +856,8 @@ void Viewer::draw_help() {
 void Viewer::draw_panel() {
   if (!show_panel_) return;
   ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(290, 0), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowCollapsed(options_.benchmark > 0 || !options_.script.empty() || options_.frames > 0, ImGuiCond_FirstUseEver);
-  ImGui::Begin("epi-viewer (Tab, H: keys)");
+  ImGui::Begin("epi-viewer (Tab, H: keys)", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+  ImGui::PushItemWidth(170.0f);
   SessionSettings& s = input_.settings;
   int mode = int(s.mode);
   if (ImGui::Combo("mode", &mode, kModeNames, 4)) s.mode = SessionMode(mode);
@@ -940,6 +947,7 @@ void Viewer::draw_panel() {
       }
     ImGui::Dummy(ImVec2(cell * 5, cell * 5));
   }
+  ImGui::PopItemWidth();
   ImGui::End();
 }
 

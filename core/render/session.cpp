@@ -97,6 +97,32 @@ void draw_segment(RgbImage& image, const Segment& s, glm::vec3 color) {
   }
 }
 
+// Square dilation (grow = true) or erosion of a 0/1 mask by radius r, separably with running
+// counts: O(pixels) whatever r.
+void grow_mask(std::vector<uint8_t>& mask, std::vector<uint8_t>& scratch, int w, int h, int r, bool grow) {
+  auto pass = [&](const std::vector<uint8_t>& in, std::vector<uint8_t>& out, int n, int lines, size_t step, size_t line_step) {
+    tbb::parallel_for(0, lines, [&](int line) {
+      const size_t base = size_t(line) * line_step;
+      int count = 0;  // set pixels in the window [k - r, k + r]
+      for (int k = 0; k < std::min(r, n); ++k) count += in[base + size_t(k) * step];
+      for (int k = 0; k < n; ++k) {
+        if (k + r < n) count += in[base + size_t(k + r) * step];
+        if (k - r - 1 >= 0) count -= in[base + size_t(k - r - 1) * step];
+        const int window = std::min(n - 1, k + r) - std::max(0, k - r) + 1;
+        out[base + size_t(k) * step] = grow ? count > 0 : count == window;
+      }
+    });
+  };
+  scratch.resize(mask.size());
+  pass(mask, scratch, w, h, 1, size_t(w));         // rows
+  pass(scratch, mask, h, w, size_t(w), 1);         // columns
+}
+
+void close_mask(std::vector<uint8_t>& mask, std::vector<uint8_t>& scratch, int w, int h, int r) {
+  grow_mask(mask, scratch, w, h, r, true);
+  grow_mask(mask, scratch, w, h, r, false);
+}
+
 }  // namespace
 
 const char* to_string(SessionMode mode) {
@@ -471,27 +497,23 @@ void Session::stage_image(const SessionInput& input, const RgbImage& final_image
     }
   }
 
-  // The selected object's outline: pixels next to (but outside) its dilated footprint.
+  // The selected object's outline: its footprint among the drawn points, closed (dilated, then
+  // eroded, by about the typical gap between points), and the ring one pixel outside it.
   if (input.highlight_object >= 0 && stage == StageView::final) {
-    std::vector<uint8_t> mask(pixels, 0), grown(pixels, 0);
-    for (size_t i = 0; i < pixels; ++i) mask[i] = object_at(i) == input.highlight_object;
-    auto dilate = [&](const std::vector<uint8_t>& in, std::vector<uint8_t>& o) {
-      tbb::parallel_for(0, h, [&](int y) {
-        for (int x = 0; x < w; ++x) {
-          uint8_t m = 0;
-          for (int dy = -1; dy <= 1 && !m; ++dy)
-            for (int dx = -1; dx <= 1 && !m; ++dx) {
-              const int xx = x + dx, yy = y + dy;
-              m = xx >= 0 && yy >= 0 && xx < w && yy < h && in[size_t(yy) * size_t(w) + size_t(xx)];
-            }
-          o[size_t(y) * size_t(w) + size_t(x)] = m;
-        }
-      });
-    };
-    dilate(mask, grown);     // closes the holes between drawn points
-    dilate(grown, mask);     // mask: one pixel wider than grown
+    std::vector<uint8_t> mask(pixels, 0), scratch(pixels, 0);
+    size_t drawn = 0;
+    for (size_t i = 0; i < pixels; ++i) {
+      const int o = object_at(i);
+      drawn += o != -1 || (renderer_ && renderer_->cache().image().point[i] >= 0);
+      mask[i] = o == input.highlight_object;
+    }
+    const int gap = int(std::lround(std::sqrt(double(pixels) / double(std::max<size_t>(drawn, 1)))));
+    const int r = std::clamp(gap, 1, 8);
+    close_mask(mask, scratch, w, h, r);
+    std::vector<uint8_t> ring = mask;
+    grow_mask(ring, scratch, w, h, 1, true);
     for (size_t i = 0; i < pixels; ++i)
-      if (mask[i] && !grown[i]) set(out, i, glm::vec3(1.0f, 0.55f, 0.0f));
+      if (ring[i] && !mask[i]) set(out, i, glm::vec3(1.0f, 0.55f, 0.0f));
   }
 }
 

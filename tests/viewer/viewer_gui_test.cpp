@@ -142,7 +142,7 @@ struct PrintedCamera {
 // Every "camera 0 eye X Y Z target X Y Z ..." line the viewer printed (key C).
 std::vector<PrintedCamera> printed_cameras(const std::string& out) {
   std::vector<PrintedCamera> cams;
-  const std::regex line(R"(camera 0 eye (\S+) (\S+) (\S+) target (\S+) (\S+) (\S+) up)");
+  const std::regex line(R"((?:^|\n)camera 0 eye (\S+) (\S+) (\S+) target (\S+) (\S+) (\S+) up)");
   for (auto it = std::sregex_iterator(out.begin(), out.end(), line); it != std::sregex_iterator(); ++it) {
     const std::smatch& m = *it;
     cams.push_back({{std::stof(m[1]), std::stof(m[2]), std::stof(m[3])}, {std::stof(m[4]), std::stof(m[5]), std::stof(m[6])}});
@@ -190,11 +190,13 @@ TEST(ViewerWindow, OrbitPanAndDollyMoveTheCameraAndTheImage) {
                             "drag left 40 36 70 36 5\nwait 3\nkey C\nscreenshot " + d + "1.exr\n"
                             "drag middle 48 36 48 56 5\nwait 3\nkey C\nscreenshot " + d + "2.exr\n"
                             "scroll 2\nwait 3\nkey C\nscreenshot " + d + "3.exr\n"
-                            "key R\nwait 3\nkey C\n");
+                            "key R\nwait 3\nkey C\n"
+                            "key CTRL+1\ndrag left 40 36 60 50 4\nkey 1\nkey C\n"
+                            "hold W 12\nwait 1\nkey C\n");
   const ProgramRun v = viewer(kCornell + kStill + " --sync --script " + (dir / "s.txt").string());
   ASSERT_EQ(v.exit_code, 0) << v.out;
   const std::vector<PrintedCamera> c = printed_cameras(v.out);
-  ASSERT_EQ(c.size(), 5u) << v.out;
+  ASSERT_EQ(c.size(), 7u) << v.out;
   // Orbit: 30 px of left drag turn the eye 9 degrees about the target; the target stays.
   EXPECT_LT(glm::distance(c[1].target, c[0].target), 1e-5f);
   EXPECT_NEAR(glm::distance(c[1].eye, c[1].target), glm::distance(c[0].eye, c[0].target), 1e-4f);
@@ -209,8 +211,16 @@ TEST(ViewerWindow, OrbitPanAndDollyMoveTheCameraAndTheImage) {
   // Dolly: two wheel steps towards the target.
   EXPECT_NEAR(glm::distance(c[3].eye, c[3].target), 0.81f * glm::distance(c[2].eye, c[2].target), 1e-4f);
   EXPECT_LT(glm::distance(c[3].target, c[2].target), 1e-5f);
-  // Reset.
+  // Reset; a bookmark stored there (Ctrl+1) brings the camera back after an orbit (1).
   EXPECT_LT(glm::distance(c[4].eye, c[0].eye), 1e-5f);
+  EXPECT_LT(glm::distance(c[5].eye, c[0].eye), 1e-5f);
+  EXPECT_LT(glm::distance(c[5].target, c[0].target), 1e-5f);
+  EXPECT_NE(v.out.find("bookmark 1: camera 0 eye"), std::string::npos);
+  // Fly: W moves eye and target forward together.
+  const glm::vec3 fly = c[6].eye - c[5].eye;
+  EXPECT_GT(glm::length(fly), 1e-3f);
+  EXPECT_LT(glm::length(fly - (c[6].target - c[5].target)), 1e-4f);
+  EXPECT_GT(glm::dot(glm::normalize(fly), glm::normalize(c[5].target - c[5].eye)), 0.999f);
   // Each move changes the image.
   for (int k = 1; k <= 3; ++k)
     EXPECT_GT(mean_abs_diff(epi::read_image(dir / (std::to_string(k - 1) + ".exr")), epi::read_image(dir / (std::to_string(k) + ".exr"))), 0.005)
