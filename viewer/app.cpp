@@ -551,7 +551,21 @@ void Viewer::reset() {
 }
 
 void Viewer::print_camera() {
+  // The camera, then keys for what was moved (paste them into a path file), then where each
+  // point and spot light is (world, and its marker in the window).
   std::printf("%s\n", render::format_camera_key(0, input_.camera).c_str());
+  for (size_t o = 0; o < input_.objects.size(); ++o)
+    if (input_.objects[o] != loaded_objects_[o])
+      std::printf("%s\n", render::format_object_key(0, scene_.objects[o].name, glm::vec3(input_.objects[o][3]) - glm::vec3(loaded_objects_[o][3])).c_str());
+  for (size_t l = 0; l < input_.lights.size(); ++l) {
+    if (scene_.punctual_lights[l].type == LightType::directional) continue;
+    if (input_.lights[l] != loaded_lights_[l])
+      std::printf("%s\n", render::format_light_key(0, scene_.punctual_lights[l].name, input_.lights[l] - loaded_lights_[l]).c_str());
+    const glm::vec3 p = input_.lights[l];
+    const auto marker = project(p);
+    std::printf("# light '%s' at %g %g %g, marker at window pixel %.0f %.0f\n", scene_.punctual_lights[l].name.c_str(), p.x, p.y, p.z,
+                marker ? marker->x : -1.0f, marker ? marker->y : -1.0f);
+  }
   std::fflush(stdout);
 }
 

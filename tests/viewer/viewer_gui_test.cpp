@@ -270,6 +270,50 @@ TEST(ViewerWindow, DraggingAnObjectMovesItsPixelsAndItsShadowEdges) {
   EXPECT_LT(double(common), 0.7 * double(std::min(sa.size(), sb.size()))) << "most shadow-edge pixels moved";
 }
 
+// A point light dragged by its marker moves (the printed key), its shadow edges follow, and the
+// recording (K ... K) is a camera-path file `epi render` plays.
+TEST(ViewerWindow, DraggingALightMovesItsShadowEdgesAndIsRecorded) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = temp_dir("light");
+  const std::string d = dir.string() + "/";
+  const std::string chains = std::string(EPI_SOURCE_DIR) + "/scenes/chains.gltf";
+  const std::string view = " --size 320x240 --eye 4,3.5,4 --target 0,0.8,0 --sync";
+  // Where the point light's marker is: C prints it.
+  write_file(dir / "where.txt", "wait 2\nkey C\n");
+  const ProgramRun where = viewer(chains + view + " --script " + d + "where.txt");
+  ASSERT_EQ(where.exit_code, 0) << where.out;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(where.out, m, std::regex(R"(# light 'point' at \S+ \S+ \S+, marker at window pixel (\S+) (\S+))"))) << where.out;
+  const int x = std::stoi(m[1]), y = std::stoi(m[2]);
+  ASSERT_TRUE(x > 0 && y > 0 && x < 320 && y < 240) << where.out;
+  write_file(dir / "s.txt", "wait 10\nkey F3\nscreenshot " + d + "e0.exr\nkey F1\nkey K\n"
+                            "drag left " + std::to_string(x) + " " + std::to_string(y) + " " + std::to_string(x + 40) + " " +
+                            std::to_string(y) + " 6\nwait 20\nkey K\nkey C\nkey F3\nwait 5\nscreenshot " + d + "e1.exr\n");
+  const ProgramRun v = viewer(chains + view + " --record " + d + "path.txt --script " + d + "s.txt");
+  ASSERT_EQ(v.exit_code, 0) << v.out;
+  ASSERT_TRUE(std::regex_search(v.out, m, std::regex(R"((?:^|\n)light 0 point translate (\S+) (\S+) (\S+))"))) << v.out;
+  EXPECT_GT(glm::length(glm::vec3(std::stof(m[1]), std::stof(m[2]), std::stof(m[3]))), 0.05f) << v.out;
+  // The shadow edges (umbral, penumbral, shadow kinds) changed.
+  const epi::RgbImage e0 = epi::read_image(dir / "e0.exr"), e1 = epi::read_image(dir / "e1.exr");
+  std::set<size_t> s0, s1;
+  for (glm::vec3 color : {glm::vec3(1.0f, 0.1f, 0.05f), glm::vec3(1.0f, 0.45f, 0.0f), glm::vec3(0.25f, 0.35f, 1.0f)}) {
+    const auto a = pixels_of(e0, color), b = pixels_of(e1, color);
+    s0.insert(a.begin(), a.end()), s1.insert(b.begin(), b.end());
+  }
+  ASSERT_GT(s0.size(), 20u);
+  ASSERT_GT(s1.size(), 20u);
+  size_t common = 0;
+  for (size_t i : s0) common += s1.count(i);
+  EXPECT_LT(double(common), 0.8 * double(std::min(s0.size(), s1.size())));
+  // The recording: camera keys and the light's keys, played by epi render.
+  std::ifstream in(dir / "path.txt");
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(text.find("\ncamera "), std::string::npos) << text;
+  EXPECT_NE(text.find("\nlight "), std::string::npos) << text;
+  const ProgramRun play = epi("render " + chains + " --camera-path " + d + "path.txt --frames 3 --size 32x24 --sync --quiet -o " + d + "p.png");
+  EXPECT_EQ(play.exit_code, 0) << play.out << "\n" << text;
+}
+
 TEST(ViewerWindow, EveryStageViewIsDistinctAndNonEmpty) {
   REQUIRE_DISPLAY();
   const fs::path dir = temp_dir("stages");
