@@ -101,9 +101,9 @@ class FrameTexture {
     glDeleteBuffers(2, pbo_);
     glDeleteTextures(1, &texture_);
   }
-  // Copies rgba (width x height) into the texture through the next PBO. Returns the CPU time, ms.
-  double upload(const uint32_t* rgba, int width, int height) {
-    const auto start = Clock::now();
+  // Maps the next PBO for a width x height frame: the caller writes its RGBA8 pixels there, then
+  // calls finish_upload().
+  uint32_t* begin_upload(int width, int height) {
     const size_t bytes = size_t(width) * size_t(height) * 4;
     if (width != width_ || height != height_) {
       glBindTexture(GL_TEXTURE_2D, texture_);
@@ -118,14 +118,18 @@ class FrameTexture {
     next_ = 1 - next_;
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, pbo_[next_]);
     glBufferData(GL_PIXEL_UNPACK_BUFFER, GLsizeiptr(bytes), nullptr, GL_STREAM_DRAW);  // orphan: no wait on the GPU
-    if (void* mapped = glMapBufferRange(GL_PIXEL_UNPACK_BUFFER, 0, GLsizeiptr(bytes), GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT)) {
-      std::memcpy(mapped, rgba, bytes);
-      glUnmapBuffer(GL_PIXEL_UNPACK_BUFFER);
-      glBindTexture(GL_TEXTURE_2D, texture_);
-      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
-    }
+    mapped_ = glMapBufferRange(GL_PIXEL_UNPACK_BUFFER, 0, GLsizeiptr(bytes), GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
+    if (!mapped_) glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    return static_cast<uint32_t*>(mapped_);
+  }
+  // Unmaps the PBO and has the texture take its pixels.
+  void finish_upload() {
+    if (!mapped_) return;
+    glUnmapBuffer(GL_PIXEL_UNPACK_BUFFER);
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-    return ms_between(start, Clock::now());
+    mapped_ = nullptr;
   }
   // Draws the texture over the window, y down (the image's first row at the top).
   void draw(int window_width, int window_height) const {
@@ -141,6 +145,7 @@ class FrameTexture {
  private:
   GLuint texture_ = 0, framebuffer_ = 0, pbo_[2] = {0, 0};
   int width_ = 0, height_ = 0, next_ = 0;
+  void* mapped_ = nullptr;
 };
 
 // Statistics of a series (the --benchmark output).
@@ -591,7 +596,9 @@ void Viewer::save_image(const std::string& file) {
   if (frame_.number == 0) return;
   ImageWriteOptions o;
   o.exposure = encoder_.exposure();
-  write_image(file, frame_.image, o);
+  RgbImage image;
+  session_->copy_image(image);
+  write_image(file, image, o);
 }
 
 void Viewer::save_window(const std::string& file) {
@@ -729,12 +736,22 @@ void Viewer::post_if_changed() {
 }
 
 void Viewer::take_newest_frame() {
-  if (!session_->take_frame(frame_.number, frame_)) return;
+  // The display cost: the frame's RGBA8 copied from the session straight into a mapped PBO, and
+  // the texture upload issued.
+  const auto start = Clock::now();
+  bool mapped = false;
+  const bool taken = session_->take_frame(frame_.number, frame_, [&](int w, int h) {
+    uint32_t* target = texture_->begin_upload(w, h);
+    mapped = target != nullptr;
+    return target;
+  });
+  if (!taken) return;
+  if (mapped) texture_->finish_upload();
   const auto now = Clock::now();
   ++frames_shown_;
   if (!frame_.error.empty()) std::fprintf(stderr, "epi-viewer: %s\n", frame_.error.c_str());
-  if (!frame_.display.empty()) {
-    last_upload_ms_ = texture_->upload(frame_.display.data(), frame_.image.width, frame_.image.height);
+  if (mapped) {
+    last_upload_ms_ = ms_between(start, now);
     upload_ms_.push_back(last_upload_ms_);
     if (options_.benchmark > 0) {  // the upload's full cost, the driver's copy included
       const auto t = Clock::now();
@@ -812,7 +829,7 @@ void Viewer::draw_overlay() {
   ImGui::SetNextWindowBgAlpha(0.55f);
   ImGui::Begin("overlay", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs);
   ImGui::Text("window %zu fps | frames %zu fps (%.1f ms)", ui_frames_.size(), render_frames_.size(), frame_.frame_ms);
-  ImGui::Text("%s, %dx%d, %s shader", render::to_string(frame_.settings.mode), frame_.image.width, frame_.image.height,
+  ImGui::Text("%s, %dx%d, %s shader", render::to_string(frame_.settings.mode), frame_.width, frame_.height,
               kShaderNames[int(frame_.settings.shader.kind)]);
   if (frame_.settings.mode == SessionMode::epi || frame_.settings.mode == SessionMode::rendercache) {
     ImGui::Text("samples/frame %zu (asked %zu) | %.1f Mrays/s", frame_.stats.samples, frame_.stats.requested, frame_.mrays_per_second);
@@ -1055,7 +1072,7 @@ int Viewer::run() {
     const Summary lat = summarize(tail(latency_ms_, benchmark_first_latency));
     const double frames = double(frame_.number - benchmark_first_frame);
     std::printf("epi-viewer benchmark: %s, %dx%d, %s, %s shader, %zu window frames over %.2f s\n", options_.render.scene.c_str(),
-                frame_.image.width, frame_.image.height, render::to_string(frame_.settings.mode),
+                frame_.width, frame_.height, render::to_string(frame_.settings.mode),
                 kShaderNames[int(frame_.settings.shader.kind)], ui.n, seconds);
     std::printf("BENCHMARK_WINDOW_FPS %.1f (frame ms: median %.2f, min %.2f, max %.2f, sigma %.2f)\n", ui.mean > 0 ? 1000.0 / ui.mean : 0.0,
                 ui.median, ui.min, ui.max, ui.sigma);

@@ -215,6 +215,28 @@ bool Session::take_frame(uint64_t have, SessionFrame& out) const {
   return true;
 }
 
+bool Session::take_frame(uint64_t have, SessionFrame& out, const DisplayTarget& display_target) const {
+  std::lock_guard lock(frame_mutex_);
+  if (front_.number <= have) return false;
+  RgbImage image;
+  std::vector<uint32_t> display;
+  std::swap(front_.image, image);
+  std::swap(front_.display, display);
+  out = front_;  // everything but the pixels
+  std::swap(front_.image, image);
+  std::swap(front_.display, display);
+  if (display_target && !front_.display.empty())
+    if (uint32_t* target = display_target(front_.width, front_.height))
+      std::memcpy(target, front_.display.data(), front_.display.size() * sizeof(uint32_t));
+  return true;
+}
+
+uint64_t Session::copy_image(RgbImage& out) const {
+  std::lock_guard lock(frame_mutex_);
+  out = front_.image;
+  return front_.number;
+}
+
 bool Session::wait_for_frame(uint64_t n, std::chrono::milliseconds timeout) const {
   std::unique_lock lock(frame_mutex_);
   return frame_ready_.wait_for(lock, timeout, [&] { return front_.number >= n; });
@@ -382,6 +404,7 @@ void Session::render_frame(const SessionInput& input, SessionFrame& frame) {
     final_image = &averaged_;
   }
   stage_image(input, *final_image, frame);
+  frame.width = frame.image.width, frame.height = frame.image.height;
   if (display_) display_(frame.image, frame.display);
   else frame.display.clear();
 }

@@ -86,6 +86,7 @@ struct PixelProbe {
 
 struct SessionFrame {
   uint64_t number = 0;          // frames rendered since the session started (0: none yet)
+  int width = 0, height = 0;    // of image and display
   uint64_t input_sequence = 0;  // the newest input this frame reflects
   std::chrono::steady_clock::time_point input_time, done_time;
   Camera camera;
@@ -119,6 +120,12 @@ class Session {
   uint64_t pick(glm::ivec2 pixel);
   // The newest finished frame, if newer than `have` (a frame number); copies under a short lock.
   bool take_frame(uint64_t have, SessionFrame& out) const;
+  // The same without the pixels (out.image and out.display are left empty): the RGBA8 pixels go
+  // straight to display_target(width, height) (e.g. a mapped pixel buffer; nullptr: skipped).
+  using DisplayTarget = std::function<uint32_t*(int width, int height)>;
+  bool take_frame(uint64_t have, SessionFrame& out, const DisplayTarget& display_target) const;
+  // The newest frame's linear image (screenshots); returns its number (0: none yet).
+  uint64_t copy_image(RgbImage& out) const;
   uint64_t frames() const { return frames_.load(); }
   // Blocks until a frame numbered >= n is published or the timeout passes (tests, --frames).
   bool wait_for_frame(uint64_t n, std::chrono::milliseconds timeout) const;
@@ -166,7 +173,7 @@ class Session {
 
   mutable std::mutex frame_mutex_;
   mutable std::condition_variable frame_ready_;
-  SessionFrame front_;  // the newest published frame
+  mutable SessionFrame front_;  // the newest published frame (its pixels lent out in take_frame)
   SessionFrame back_;   // being filled by the frame thread
   std::atomic<uint64_t> frames_{0};
 
