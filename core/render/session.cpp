@@ -323,6 +323,12 @@ void Session::run() {
       });
       if (stop_) return;
       input = input_;
+      if (input.path) {  // this frame's keys
+        const double f = double(frames_.load() - std::min(frames_.load(), input.path_start));
+        if (!input.path->cameras.empty()) input.camera = input.path->camera_at(f);
+        if (input.path->moves_objects()) input.objects = input.path->object_transforms_at(scene_, f);
+        if (input.path->moves_lights()) input.lights = input.path->light_positions_at(scene_, f);
+      }
       picks.swap(picks_);
     }
     if (input.settings.max_fps > 0.0) {

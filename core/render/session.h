@@ -25,6 +25,7 @@
 #include <glm/glm.hpp>
 #include <tbb/global_control.h>
 
+#include "render/camera_path.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "shade/shader.h"
@@ -61,6 +62,11 @@ struct SessionInput {
   SessionSettings settings;
   glm::ivec2 probe{-1, -1};        // the hovered pixel (reachability view), -1: none
   int highlight_object = -1;       // outlined in the image (-1: none)
+  // A camera path played frame by frame on the frame thread: frame number n (counted from 1)
+  // shows path frame n - 1 - path_start, as `epi render --camera-path` shows frame n - 1; camera,
+  // objects and lights come from the path where it has keys for them (the fields above otherwise).
+  std::shared_ptr<const CameraPath> path;
+  uint64_t path_start = 0;
   uint64_t sequence = 0;           // set by post(): the number of this input
   std::chrono::steady_clock::time_point time;  // set by post(): when it was posted
 };
