@@ -298,6 +298,7 @@ class Viewer {
   uint64_t posted_sequence_ = 0;
   std::deque<std::pair<uint64_t, Clock::time_point>> pending_inputs_;  // user changes not yet on screen
   SessionFrame frame_;  // the newest frame taken
+  std::string last_error_;  // the frame thread's last error, printed once
   std::vector<uint32_t> staging_;
   Camera initial_camera_;
   std::vector<glm::mat4> loaded_objects_;
@@ -388,6 +389,9 @@ void Viewer::open_window() {
   ImGui::CreateContext();
   ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini beside the user's files
   ImGui::StyleColorsDark();
+  float scale_x = 1.0f, scale_y = 1.0f;  // HiDPI: the panel grows with the monitor's scale
+  glfwGetWindowContentScale(window_, &scale_x, &scale_y);
+  if (scale_x > 1.0f) ImGui::GetStyle().ScaleAllSizes(scale_x), ImGui::GetIO().FontGlobalScale = scale_x;
   ImGui_ImplGlfw_InitForOpenGL(window_, true);  // chains to the callbacks above
   ImGui_ImplOpenGL3_Init("#version 330");
   texture_ = std::make_unique<FrameTexture>();
@@ -714,6 +718,7 @@ void Viewer::run_script() {
         }
         window_shots_.push_back(c.file);
         return;  // taken at the end of this window frame
+      case K::resize: glfwSetWindowSize(window_, int(c.x0), int(c.y0)); return;
       case K::quit: quit_ = true; return;
     }
   }
@@ -751,7 +756,8 @@ void Viewer::take_newest_frame() {
   if (mapped) texture_->finish_upload();
   const auto now = Clock::now();
   ++frames_shown_;
-  if (!frame_.error.empty()) std::fprintf(stderr, "epi-viewer: %s\n", frame_.error.c_str());
+  if (frame_.error != last_error_ && !frame_.error.empty()) std::fprintf(stderr, "epi-viewer: %s\n", frame_.error.c_str());
+  last_error_ = frame_.error;
   if (mapped) {
     last_upload_ms_ = ms_between(start, now);
     upload_ms_.push_back(last_upload_ms_);
@@ -840,6 +846,8 @@ void Viewer::draw_overlay() {
   } else {
     ImGui::Text("%s %d | %.1f Mrays/s", frame_.settings.mode == SessionMode::raytrace ? "passes" : "done", frame_.passes, frame_.mrays_per_second);
   }
+  if (!frame_.error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.3f, 0.3f, 1.0f), "%s", frame_.error.c_str());
+  if (session_->reference_progress() < 1.0) ImGui::Text("rendering the reference: %.0f%%", 100.0 * session_->reference_progress());
   ImGui::Text("input->screen %.0f ms | upload %.2f ms", last_latency_ms_, last_upload_ms_);
   // The per-stage time graph: one stacked bar per frame over the last 5 seconds.
   const ImVec2 size(300.0f, 70.0f);

@@ -123,6 +123,10 @@ std::vector<ScriptCommand> parse_script(std::string_view text, const std::string
       }
     } else if (word == "move") {
       c.kind = K::move, c.x0 = number("X"), c.y0 = number("Y");
+    } else if (word == "resize") {
+      c.kind = K::resize, c.x0 = number("W"), c.y0 = number("H");
+      if (c.x0 < 1 || c.y0 < 1 || c.x0 > 16384 || c.y0 > 16384 || c.x0 != std::floor(c.x0) || c.y0 != std::floor(c.y0))
+        throw fail("'resize' needs whole numbers in 1..16384");
     } else if (word == "scroll") {
       c.kind = K::scroll, c.scroll = number("DY");
     } else if (word == "screenshot" || word == "window-screenshot") {

@@ -386,7 +386,8 @@ void Session::render_frame(const SessionInput& input, SessionFrame& frame) {
   frame.stats = {};
   frame.cache_points = frame.cache_capacity = 0;
   frame.passes = 0;
-  if (renderer_) {
+  if (mode == SessionMode::epi || mode == SessionMode::rendercache) {
+    if (!renderer_) throw std::runtime_error("the frame loop could not be built for these settings");
     final_image = &renderer_->render(input.camera, input.objects, input.lights);
     frame.stats = renderer_->stats();
     frame.cache_points = renderer_->cache().valid_points();
@@ -400,7 +401,10 @@ void Session::render_frame(const SessionInput& input, SessionFrame& frame) {
     if (mode == SessionMode::raytrace) {
       render_raytrace_pass(input, changed);
     } else if (changed || !reference_done_) {
-      averaged_ = render_image(*shader_, make_view(input.camera, built_.frame.width, built_.frame.height), built_.reference_spp);
+      reference_progress_ = 0.0;
+      averaged_ = render_image(*shader_, make_view(input.camera, built_.frame.width, built_.frame.height), built_.reference_spp,
+                               [this](double done) { reference_progress_ = done; });
+      reference_progress_ = 1.0;
       ray_objects_.clear();
       passes_ = 1;
       reference_done_ = true;

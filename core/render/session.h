@@ -137,6 +137,8 @@ class Session {
   bool wait_for_frame(uint64_t n, std::chrono::milliseconds timeout) const;
 
   const Scene& scene() const { return scene_; }
+  // reference mode: the fraction of the image in progress done (1 when none is in progress).
+  double reference_progress() const { return reference_progress_.load(); }
 
  private:
   void run();
@@ -182,6 +184,7 @@ class Session {
   mutable SessionFrame front_;  // the newest published frame (its pixels lent out in take_frame)
   SessionFrame back_;   // being filled by the frame thread
   std::atomic<uint64_t> frames_{0};
+  std::atomic<double> reference_progress_{1.0};
 
   std::atomic<bool> stop_{false};
   std::thread thread_;

@@ -115,7 +115,8 @@ TEST(Script, ErrorsNameTheFileAndLine) {
                {"drag left 1 2 3 4 0\n", "s.txt:1: 'drag' needs at least 1 frame"},
                {"scroll 1 2\n", "s.txt:1: unexpected '2' after 'scroll'"},
                {"screenshot\n", "s.txt:1: 'screenshot' needs a file name"},
-               {"scroll inf\n", "s.txt:1: 'scroll': DY must be a finite number, got 'inf'"}};
+               {"scroll inf\n", "s.txt:1: 'scroll': DY must be a finite number, got 'inf'"},
+               {"resize 0 10\n", "s.txt:1: 'resize' needs whole numbers in 1..16384"}};
   for (const auto& c : cases) {
     try {
       parse_script(c.text, "s.txt");

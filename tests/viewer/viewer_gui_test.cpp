@@ -328,6 +328,20 @@ TEST(ViewerWindow, DraggingALightMovesItsShadowEdgesAndIsRecorded) {
   EXPECT_EQ(play.exit_code, 0) << play.out << "\n" << text;
 }
 
+TEST(ViewerWindow, TheRendererFollowsTheWindowSize) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = temp_dir("resize");
+  write_file(dir / "s.txt", "wait 3\nscreenshot " + (dir / "a.exr").string() + "\nresize 128 80\nwait 30\nscreenshot " +
+                                (dir / "b.exr").string() + "\n");
+  const ProgramRun v = viewer(kCornell + kStill + " --script " + (dir / "s.txt").string());
+  ASSERT_EQ(v.exit_code, 0) << v.out;
+  const epi::RgbImage a = epi::read_image(dir / "a.exr"), b = epi::read_image(dir / "b.exr");
+  EXPECT_EQ(a.width, 96);
+  EXPECT_EQ(a.height, 72);
+  EXPECT_EQ(b.width, 128);
+  EXPECT_EQ(b.height, 80);
+}
+
 TEST(ViewerWindow, EveryStageViewIsDistinctAndNonEmpty) {
   REQUIRE_DISPLAY();
   const fs::path dir = temp_dir("stages");
