@@ -928,6 +928,9 @@ void Viewer::draw_panel() {
   ImGui::Checkbox("view edges", &s.frame.view_edges);
   ImGui::SameLine();
   ImGui::Checkbox("shadow edges", &s.frame.shadow_edges);
+  ImGui::Checkbox("soft shadow edges", &s.frame.soft_shadow_edges);
+  ImGui::SameLine();
+  ImGui::Checkbox("occlusion test", &s.frame.occlusion_test);
   ImGui::Checkbox("occlusion culling", &s.frame.occlusion_culling);
   ImGui::SameLine();
   ImGui::Checkbox("sync", &s.frame.sync);
