@@ -119,6 +119,28 @@ void grow_mask(std::vector<uint8_t>& mask, std::vector<uint8_t>& scratch, int w,
   pass(scratch, mask, h, w, size_t(w), 1);         // columns
 }
 
+// Sets every 0 pixel that no path of 0 pixels (4-connected) joins to the image border.
+void fill_holes(std::vector<uint8_t>& mask, int w, int h) {
+  std::vector<uint8_t> outside(mask.size(), 0);
+  std::vector<size_t> stack;
+  auto visit = [&](int x, int y) {
+    const size_t i = size_t(y) * size_t(w) + size_t(x);
+    if (!mask[i] && !outside[i]) outside[i] = 1, stack.push_back(i);
+  };
+  for (int x = 0; x < w; ++x) visit(x, 0), visit(x, h - 1);
+  for (int y = 0; y < h; ++y) visit(0, y), visit(w - 1, y);
+  while (!stack.empty()) {
+    const size_t i = stack.back();
+    stack.pop_back();
+    const int x = int(i % size_t(w)), y = int(i / size_t(w));
+    if (x > 0) visit(x - 1, y);
+    if (x + 1 < w) visit(x + 1, y);
+    if (y > 0) visit(x, y - 1);
+    if (y + 1 < h) visit(x, y + 1);
+  }
+  for (size_t i = 0; i < mask.size(); ++i) mask[i] = mask[i] || !outside[i];
+}
+
 void close_mask(std::vector<uint8_t>& mask, std::vector<uint8_t>& scratch, int w, int h, int r) {
   grow_mask(mask, scratch, w, h, r, true);
   grow_mask(mask, scratch, w, h, r, false);
@@ -532,7 +554,8 @@ void Session::stage_image(const SessionInput& input, const RgbImage& final_image
   }
 
   // The selected object's outline: its footprint among the drawn points, closed (dilated, then
-  // eroded, by about the typical gap between points), and the ring one pixel outside it.
+  // eroded, by about the typical gap between points) and with its holes filled (a gap wider than
+  // the closing, or a hole in the object), and the ring one pixel outside it.
   if (input.highlight_object >= 0 && stage == StageView::final) {
     std::vector<uint8_t> mask(pixels, 0), scratch(pixels, 0);
     size_t drawn = 0;
@@ -544,6 +567,7 @@ void Session::stage_image(const SessionInput& input, const RgbImage& final_image
     const int gap = int(std::lround(std::sqrt(double(pixels) / double(std::max<size_t>(drawn, 1)))));
     const int r = std::clamp(gap, 1, 8);
     close_mask(mask, scratch, w, h, r);
+    fill_holes(mask, w, h);
     std::vector<uint8_t> ring = mask;
     grow_mask(ring, scratch, w, h, 1, true);
     for (size_t i = 0; i < pixels; ++i)

@@ -151,6 +151,41 @@ TEST(Session, PickFindsTheObjectUnderAPixel) {
   }
 }
 
+// The selected object's outline: a closed ring around the box's pixels, in every frame-loop mode
+// and in raytrace; none without a selection.
+TEST(Session, TheHighlightedObjectIsOutlined) {
+  const Scene scene = test::plane_and_box();
+  for (SessionMode mode : {SessionMode::epi, SessionMode::rendercache, SessionMode::raytrace}) {
+    SessionInput in = small_input(scene, mode, true);
+    in.settings.frame.width = 96, in.settings.frame.height = 72;
+    Session session(scene, in);
+    session.wait_for_frame(8, 60s);
+    in.highlight_object = 1;
+    const SessionFrame f = frame_after(session, session.post(in));
+    RgbImage image;
+    session.copy_image(image);
+    View view;
+    view.camera = in.camera, view.width = 96, view.height = 72;
+    const Projection top = ViewFrame(view).project({0.0f, 0.0f, 1.6f});  // inside the box's footprint
+    int ring = 0, ring_rows_left = 96, ring_rows_right = -1;
+    for (int y = 0; y < 72; ++y)
+      for (int x = 0; x < 96; ++x) {
+        const float* p = image.at(x, y);
+        if (p[0] == 1.0f && p[1] == 0.55f && p[2] == 0.0f) {
+          ++ring;
+          if (y == int(top.pixel.y)) ring_rows_left = std::min(ring_rows_left, x), ring_rows_right = std::max(ring_rows_right, x);
+        }
+      }
+    EXPECT_GT(ring, 40) << to_string(mode);
+    // On the row through the box's top, the ring lies on both sides of it.
+    EXPECT_LT(ring_rows_left, int(top.pixel.x)) << to_string(mode);
+    EXPECT_GT(ring_rows_right, int(top.pixel.x)) << to_string(mode);
+    const float* inside = image.at(int(top.pixel.x), int(top.pixel.y));
+    EXPECT_FALSE(inside[0] == 1.0f && inside[1] == 0.55f && inside[2] == 0.0f) << "the ring is outside the object";
+    (void)f;
+  }
+}
+
 TEST(Session, RaytraceAccumulatesWhileStillAndRestartsOnAMove) {
   const Scene scene = test::plane_and_box();
   SessionInput in = small_input(scene, SessionMode::raytrace, true);
