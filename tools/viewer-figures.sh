@@ -27,6 +27,10 @@ trap 'rm -rf "$work"' EXIT
   done
 } > "$work/stages.txt"
 xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$scene" --size 320x320 --script "$work/stages.txt"
+# Hard shadow edges (blue) need punctual lights: the edges view of rooms.gltf, and its final image.
+printf 'wait 60\nscreenshot %s\nkey F3\nwait 2\nscreenshot %s\n' "$images/rooms-final.png" "$images/rooms-edges.png" > "$work/rooms.txt"
+xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$root/scenes/rooms.gltf" --size 320x240 --script "$work/rooms.txt"
+
 # The whole window at 960x600: the short block selected (outlined), then the reachability view
 # with the hovered pixel's 5x5 drawn large in the panel.
 cat > "$work/window.txt" <<SCRIPT
