@@ -299,6 +299,7 @@ class Viewer {
   std::deque<std::pair<uint64_t, Clock::time_point>> pending_inputs_;  // user changes not yet on screen
   SessionFrame frame_;  // the newest frame taken
   std::string last_error_;  // the frame thread's last error, printed once
+  Clock::time_point last_activity_{}, last_draw_{};  // the last input event; the last redraw
   std::vector<uint32_t> staging_;
   Camera initial_camera_;
   std::vector<glm::mat4> loaded_objects_;
@@ -346,17 +347,23 @@ class Viewer {
 Viewer* viewer_of(GLFWwindow* w) { return static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
 
 void Viewer::on_mouse_button(GLFWwindow* w, int button, int action, int mods) {
+  viewer_of(w)->last_activity_ = Clock::now();
   if (ImGui::GetIO().WantCaptureMouse && action == GLFW_PRESS) return;
   double x, y;
   glfwGetCursorPos(w, &x, &y);
   viewer_of(w)->mouse_button(button, action == GLFW_PRESS, mods, x, y);
 }
-void Viewer::on_cursor(GLFWwindow* w, double x, double y) { viewer_of(w)->cursor(x, y); }
+void Viewer::on_cursor(GLFWwindow* w, double x, double y) {
+  viewer_of(w)->last_activity_ = Clock::now();
+  viewer_of(w)->cursor(x, y);
+}
 void Viewer::on_scroll(GLFWwindow* w, double, double dy) {
+  viewer_of(w)->last_activity_ = Clock::now();
   if (ImGui::GetIO().WantCaptureMouse) return;
   viewer_of(w)->scroll(dy);
 }
 void Viewer::on_key(GLFWwindow* w, int key, int, int action, int mods) {
+  viewer_of(w)->last_activity_ = Clock::now();
   if (ImGui::GetIO().WantCaptureKeyboard && action != GLFW_RELEASE) return;
   if (action == GLFW_REPEAT) return;
   viewer_of(w)->key(key, action == GLFW_PRESS, mods);
@@ -599,7 +606,10 @@ void Viewer::toggle_recording() {
 }
 
 void Viewer::save_image(const std::string& file) {
-  if (frame_.number == 0) return;
+  if (frame_.number == 0) {
+    std::fprintf(stderr, "epi-viewer: %s: no frame has been rendered yet\n", file.c_str());
+    return;
+  }
   ImageWriteOptions o;
   o.exposure = encoder_.exposure();
   RgbImage image;
@@ -703,7 +713,7 @@ void Viewer::run_script() {
         // The image of what the script has done so far: wait for a frame that reflects it.
         frame_input(0.0);
         post_if_changed();
-        if (frame_.input_sequence < posted_sequence_) {
+        if (frame_.number == 0 || frame_.input_sequence < posted_sequence_) {
           --script_at_;
           return;
         }
@@ -712,7 +722,7 @@ void Viewer::run_script() {
       case K::window_screenshot:
         frame_input(0.0);
         post_if_changed();
-        if (frame_.input_sequence < posted_sequence_) {
+        if (frame_.number == 0 || frame_.input_sequence < posted_sequence_) {
           --script_at_;
           return;
         }
@@ -1030,7 +1040,6 @@ int Viewer::run() {
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last).count();
     last = now;
-    ui_frames_.push_back(now);
     ++ui_frame;
 
     // The renderer follows the framebuffer size, once it has stayed the same for 150 ms.
@@ -1083,6 +1092,15 @@ int Viewer::run() {
 
     if (options_.frames > 0 && frame_.number >= uint64_t(options_.frames)) quit_ = true;
 
+    // Redraw only when something changed (a new frame, recent input, a script, a drag, a held
+    // key) or a quarter second passed: on a shared CPU an idle window leaves the cores to the
+    // renderer. Input is still read at --ui-fps.
+    const bool active = frame_.number != shown || ms_between(last_activity_, now) < 500.0 || !options_.script.empty() ||
+                        options_.benchmark > 0 || drag_.kind != Drag::Kind::none || !held_keys_.empty() ||
+                        !window_shots_.empty() || resize_pending_ || ms_between(last_draw_, now) > 250.0;
+    if (!active) continue;
+    last_draw_ = now;
+    ui_frames_.push_back(now);
     glViewport(0, 0, fb_width_, fb_height_);
     glClearColor(0.05f, 0.05f, 0.05f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
