@@ -67,9 +67,8 @@ class DisplayEncoder {
   }
   void set_exposure(float stops) { exposure_.store(stops); }
   float exposure() const { return exposure_.load(); }
-  void operator()(const RgbImage& image, std::vector<uint32_t>& rgba) const {
+  void encode(const RgbImage& image, uint32_t* rgba) const {
     const size_t pixels = size_t(image.width) * size_t(image.height);
-    rgba.resize(pixels);
     const float stops = exposure_.load();
     const float top = float(table_.size() - 1);
     tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 4096), [&](const tbb::blocked_range<size_t>& r) {
@@ -105,6 +104,23 @@ class FrameTexture {
   // calls finish_upload().
   uint32_t* begin_upload(int width, int height) {
     const size_t bytes = size_t(width) * size_t(height) * 4;
+    resize(width, height);
+    next_ = 1 - next_;
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, pbo_[next_]);
+    glBufferData(GL_PIXEL_UNPACK_BUFFER, GLsizeiptr(bytes), nullptr, GL_STREAM_DRAW);  // orphan: no wait on the GPU
+    mapped_ = glMapBufferRange(GL_PIXEL_UNPACK_BUFFER, 0, GLsizeiptr(bytes), GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
+    if (!mapped_) glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    return static_cast<uint32_t*>(mapped_);
+  }
+  // The texture takes a width x height frame from a pixel buffer the frame thread filled.
+  void upload_from(GLuint buffer, int width, int height) {
+    resize(width, height);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, buffer);
+    glBindTexture(GL_TEXTURE_2D, texture_);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+  }
+  void resize(int width, int height) {
     if (width != width_ || height != height_) {
       glBindTexture(GL_TEXTURE_2D, texture_);
       glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
@@ -115,12 +131,6 @@ class FrameTexture {
       glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
       width_ = width, height_ = height;
     }
-    next_ = 1 - next_;
-    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, pbo_[next_]);
-    glBufferData(GL_PIXEL_UNPACK_BUFFER, GLsizeiptr(bytes), nullptr, GL_STREAM_DRAW);  // orphan: no wait on the GPU
-    mapped_ = glMapBufferRange(GL_PIXEL_UNPACK_BUFFER, 0, GLsizeiptr(bytes), GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
-    if (!mapped_) glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-    return static_cast<uint32_t*>(mapped_);
   }
   // Unmaps the PBO and has the texture take its pixels.
   void finish_upload() {
@@ -146,6 +156,110 @@ class FrameTexture {
   GLuint texture_ = 0, framebuffer_ = 0, pbo_[2] = {0, 0};
   int width_ = 0, height_ = 0, next_ = 0;
   void* mapped_ = nullptr;
+};
+
+// Three persistently mapped pixel buffers that the frame thread writes each frame's RGBA8 into
+// directly (DisplayEncoder output), so the window thread only has the texture take them: no copy
+// on the window thread. A slot is free, being written (frame thread), ready (the newest frame's
+// pixels), or in use by GL (window thread, until its fence signals). Window-thread calls need the
+// GL context; acquire() and ready() are the frame thread's and never call GL. Where the driver
+// lacks GL_ARB_buffer_storage, acquire() returns nullptr and frames take the copying path.
+class PixelRing {
+ public:
+  explicit PixelRing(bool supported) : supported_(supported) {}
+  ~PixelRing() {  // window thread, after the session (the frame thread) has stopped
+    for (Slot& s : slots_) release(s);
+  }
+
+  // Frame thread: a free slot for a width x height frame, marked as being written, and its tag;
+  // nullptr when none is free or the slots have another size (the window thread then makes
+  // slots of this size).
+  uint32_t* acquire(int width, int height, int64_t& tag) {
+    std::lock_guard lock(mutex_);
+    if (!supported_) return nullptr;
+    if (width != width_ || height != height_) {
+      want_width_ = width, want_height_ = height;
+      return nullptr;
+    }
+    for (int k = 0; k < kSlots; ++k) {
+      Slot& s = slots_[k];
+      if (s.state != State::free || !s.pixels) continue;
+      s.state = State::writing;
+      ++s.generation;
+      tag = int64_t(s.generation) * kSlots + k;
+      return s.pixels;
+    }
+    return nullptr;
+  }
+  // Frame thread: the slot holds a whole frame; an older frame never taken is dropped.
+  void ready(int64_t tag) {
+    std::lock_guard lock(mutex_);
+    for (Slot& s : slots_)
+      if (s.state == State::ready) s.state = State::free;
+    slots_[tag % kSlots].state = State::ready;
+  }
+
+  // Window thread: the texture takes the tagged frame if its slot still holds it (a ready slot,
+  // or with `again` a free one: the benchmark's repeated upload of the last frame). Returns
+  // whether it did.
+  bool upload(int64_t tag, FrameTexture& texture, int width, int height, bool again = false) {
+    Slot& s = slots_[tag % kSlots];
+    {
+      std::lock_guard lock(mutex_);
+      const bool holds = s.generation == uint64_t(tag / kSlots) && (s.state == State::ready || (again && s.state == State::free));
+      if (!holds) return false;
+      s.state = State::in_use;
+    }
+    texture.upload_from(s.buffer, width, height);
+    GLsync fence = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+    std::lock_guard lock(mutex_);
+    s.fence = fence;
+    return true;
+  }
+  // Window thread, once per window frame: frees the slots GL is done with; makes slots of the
+  // size the frame thread asked for once none is being written or used.
+  void maintain() {
+    std::lock_guard lock(mutex_);
+    for (Slot& s : slots_)
+      if (s.state == State::in_use && s.fence && glClientWaitSync(s.fence, 0, 0) != GL_TIMEOUT_EXPIRED)
+        glDeleteSync(s.fence), s.fence = nullptr, s.state = State::free;
+    if (!supported_ || (want_width_ == width_ && want_height_ == height_)) return;
+    for (const Slot& s : slots_)
+      if (s.state == State::writing || s.state == State::in_use) return;
+    const GLsizeiptr bytes = GLsizeiptr(want_width_) * want_height_ * 4;
+    const GLbitfield flags = GL_MAP_WRITE_BIT | GL_MAP_PERSISTENT_BIT | GL_MAP_COHERENT_BIT;
+    for (Slot& s : slots_) {
+      release(s);
+      glGenBuffers(1, &s.buffer);
+      glBindBuffer(GL_PIXEL_UNPACK_BUFFER, s.buffer);
+      glBufferStorage(GL_PIXEL_UNPACK_BUFFER, bytes, nullptr, flags);
+      s.pixels = static_cast<uint32_t*>(glMapBufferRange(GL_PIXEL_UNPACK_BUFFER, 0, bytes, flags));
+      s.state = State::free;
+      ++s.generation;  // tags of the old slots no longer match
+    }
+    glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    width_ = want_width_, height_ = want_height_;
+  }
+
+ private:
+  static constexpr int kSlots = 3;
+  enum class State { free, writing, ready, in_use };
+  struct Slot {
+    GLuint buffer = 0;
+    uint32_t* pixels = nullptr;
+    State state = State::free;
+    uint64_t generation = 0;
+    GLsync fence = nullptr;
+  };
+  static void release(Slot& s) {
+    if (s.fence) glDeleteSync(s.fence), s.fence = nullptr;
+    if (s.buffer) glDeleteBuffers(1, &s.buffer), s.buffer = 0;  // unmaps
+    s.pixels = nullptr;
+  }
+  const bool supported_;
+  std::mutex mutex_;
+  std::array<Slot, kSlots> slots_;
+  int width_ = 0, height_ = 0, want_width_ = 0, want_height_ = 0;
 };
 
 // Statistics of a series (the --benchmark output).
@@ -291,6 +405,7 @@ class Viewer {
 
   GLFWwindow* window_ = nullptr;
   std::unique_ptr<FrameTexture> texture_;
+  std::unique_ptr<PixelRing> ring_;  // must outlive session_ (its display function writes there)
   DisplayEncoder encoder_;
   std::unique_ptr<render::Session> session_;
   SessionInput input_, posted_;
@@ -402,6 +517,7 @@ void Viewer::open_window() {
   ImGui_ImplGlfw_InitForOpenGL(window_, true);  // chains to the callbacks above
   ImGui_ImplOpenGL3_Init("#version 330");
   texture_ = std::make_unique<FrameTexture>();
+  ring_ = std::make_unique<PixelRing>(glfwExtensionSupported("GL_ARB_buffer_storage"));
   glfwGetWindowSize(window_, &window_width_, &window_height_);
   glfwGetFramebufferSize(window_, &fb_width_, &fb_height_);
   input_.settings.frame.width = fb_width_, input_.settings.frame.height = fb_height_;
@@ -764,6 +880,7 @@ void Viewer::take_newest_frame() {
   });
   if (!taken) return;
   if (mapped) texture_->finish_upload();
+  else if (frame_.display_tag >= 0) mapped = ring_->upload(frame_.display_tag, *texture_, frame_.width, frame_.height);
   const auto now = Clock::now();
   ++frames_shown_;
   if (frame_.error != last_error_ && !frame_.error.empty()) std::fprintf(stderr, "epi-viewer: %s\n", frame_.error.c_str());
@@ -1019,7 +1136,19 @@ void Viewer::draw_ui() {
 
 int Viewer::run() {
   open_window();
-  session_ = std::make_unique<render::Session>(scene_, input_, [this](const RgbImage& image, std::vector<uint32_t>& rgba) { encoder_(image, rgba); });
+  // The frame thread encodes each frame straight into a mapped pixel buffer when one is free
+  // (tagged), else into the frame's own pixels (copied into a PBO when taken).
+  session_ = std::make_unique<render::Session>(scene_, input_, [this](const RgbImage& image, std::vector<uint32_t>& rgba) -> int64_t {
+    int64_t tag = -1;
+    if (uint32_t* pixels = ring_->acquire(image.width, image.height, tag)) {
+      encoder_.encode(image, pixels);
+      ring_->ready(tag);
+      return tag;
+    }
+    rgba.resize(size_t(image.width) * size_t(image.height));
+    encoder_.encode(image, rgba.data());
+    return -1;
+  });
   posted_ = input_, posted_once_ = true;
   const auto start = Clock::now();
   auto last = start;
@@ -1070,6 +1199,7 @@ int Viewer::run() {
     frame_input(dt);
     post_if_changed();
     const uint64_t shown = frame_.number;
+    ring_->maintain();
     take_newest_frame();
     if (benchmark_started && frame_.number == shown && shown > 0) {
       // No new frame this window frame: upload the newest one again, so the display cost per
@@ -1082,8 +1212,9 @@ int Viewer::run() {
         mapped = target != nullptr;
         return target;
       });
+      if (mapped) texture_->finish_upload();
+      else if (again.display_tag >= 0) mapped = ring_->upload(again.display_tag, *texture_, again.width, again.height, true);
       if (mapped) {
-        texture_->finish_upload();
         const double ms = ms_between(t, Clock::now());
         glFinish();
         upload_ms_.push_back(ms), upload_finish_ms_.push_back(ms_between(t, Clock::now()));
@@ -1135,6 +1266,7 @@ int Viewer::run() {
   }
   shader_held = false;  // a held shader lets go, so the session can stop
   session_.reset();
+  ring_.reset();
   close_window();
   return 0;
 }

@@ -438,8 +438,8 @@ void Session::render_frame(const SessionInput& input, SessionFrame& frame) {
   }
   stage_image(input, *final_image, frame);
   frame.width = frame.image.width, frame.height = frame.image.height;
-  if (display_) display_(frame.image, frame.display);
-  else frame.display.clear();
+  frame.display.clear();
+  frame.display_tag = display_ ? display_(frame.image, frame.display) : -1;
 }
 
 void Session::stage_image(const SessionInput& input, const RgbImage& final_image, SessionFrame& frame) {

@@ -99,6 +99,7 @@ struct SessionFrame {
   SessionSettings settings;     // as rendered
   RgbImage image;               // linear RGB of the chosen stage view
   std::vector<uint32_t> display;  // RGBA8 of `image` (made by the display function; empty without one)
+  int64_t display_tag = -1;     // the display function's tag when it kept the pixels itself
   FrameStats stats;             // epi and rendercache
   double frame_ms = 0.0;        // the whole frame on the frame thread (stage view and display included)
   double mrays_per_second = 0.0;  // the shader's rays over the last second of wall time
@@ -111,8 +112,10 @@ struct SessionFrame {
 
 class Session {
  public:
-  // Converts a linear image into RGBA8 for display (run on the frame thread; may be empty).
-  using DisplayFunction = std::function<void(const RgbImage& image, std::vector<uint32_t>& rgba)>;
+  // Converts a linear image into RGBA8 for display (run on the frame thread; may be empty): into
+  // `rgba`, or into storage of its own (e.g. a mapped pixel buffer), then returning a tag for it
+  // that the frame carries (SessionFrame::display_tag); -1: the pixels are in `rgba`.
+  using DisplayFunction = std::function<int64_t(const RgbImage& image, std::vector<uint32_t>& rgba)>;
   // The scene must outlive the session. The first frame is rendered from `input`. Throws what
   // the renderer and shader throw for bad settings (before the thread starts).
   Session(const Scene& scene, const SessionInput& input, DisplayFunction display = {});
