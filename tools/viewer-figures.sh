@@ -47,7 +47,7 @@ xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$scene" --size 960x600 --scri
 
 # 2. Benchmarks: --benchmark orbits the camera a little every window frame.
 machine="$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), load $(cut -d' ' -f1-3 /proc/loadavg)"
-table="| size | window fps | frame loop fps (median ms) | display: PBO copy + upload (median / max ms) | with glFinish (median / max ms) | input to screen (median / p90 ms) |"$'\n'"|---|---|---|---|---|---|"
+table="| size | window fps | frame loop fps (median ms) | display: texture upload from the frame's PBO (median / max ms) | with glFinish (median / max ms) | input to screen (median / p90 ms) |"$'\n'"|---|---|---|---|---|---|"
 for size in 512x512 1920x1080; do
   out=$(xvfb-run -a -s "-screen 0 1920x1200x24" "$viewer" "$scene" --size "$size" --benchmark 300 --ui-fps 60)
   wfps=$(sed -n 's/^BENCHMARK_WINDOW_FPS \([0-9.]*\).*/\1/p' <<<"$out")

@@ -1259,7 +1259,7 @@ int Viewer::run() {
                 ui.median, ui.min, ui.max, ui.sigma);
     std::printf("BENCHMARK_RENDER_FPS %.1f (frames shown %.0f; frame-loop ms: median %.2f, min %.2f, max %.2f)\n",
                 seconds > 0 ? frames / seconds : 0.0, frames, rf.median, rf.min, rf.max);
-    std::printf("BENCHMARK_DISPLAY_MS median %.3f, max %.3f (PBO copy and texture upload, CPU); with glFinish median %.3f, max %.3f\n",
+    std::printf("BENCHMARK_DISPLAY_MS median %.3f, max %.3f (the texture takes the frame from its pixel buffer, CPU); with glFinish median %.3f, max %.3f\n",
                 up.median, up.max, upf.median, upf.max);
     std::printf("BENCHMARK_LATENCY_MS median %.1f, p90 %.1f, max %.1f (input to the first frame on screen that reflects it; %zu inputs)\n",
                 lat.median, lat.p90, lat.max, lat.n);
