@@ -423,10 +423,8 @@ class Viewer {
 
   Drag drag_;
   std::optional<uint64_t> click_pick_;  // a click waiting for its pick's answer
-  int click_pick_object_ = -2;          // -2: not known yet
   uint64_t last_pick_id_ = 0;
   int last_pick_object_ = -1;
-  glm::vec3 last_pick_world_{0.0f};
   std::vector<std::string> window_shots_;  // window screenshots asked for this frame
   double pointer_x_ = -1, pointer_y_ = -1;
   std::set<int> held_keys_;
@@ -594,10 +592,11 @@ void Viewer::mouse_button(int button, bool press, int mods, double x, double y) 
     return;
   }
   if (button != drag_.button) return;
-  if (drag_.kind == Drag::Kind::pending || (drag_.moved < 3.0 && (drag_.kind == Drag::Kind::orbit || drag_.kind == Drag::Kind::object))) {
-    // A click: select what the pick finds (answered below when it arrives).
-    click_pick_ = drag_.kind == Drag::Kind::pending ? drag_.pick : last_pick_id_;
-    click_pick_object_ = drag_.kind == Drag::Kind::pending ? -2 : last_pick_object_;
+  // A click selects what its pick found (or, still unanswered, what it will find).
+  if (drag_.kind == Drag::Kind::pending) {
+    click_pick_ = drag_.pick;
+  } else if (drag_.moved < 3.0 && (drag_.kind == Drag::Kind::orbit || drag_.kind == Drag::Kind::object)) {
+    selected_object_ = last_pick_object_, selected_light_ = -1;
   }
   drag_ = Drag{};
 }
@@ -907,7 +906,7 @@ void Viewer::take_newest_frame() {
   // Picks: a drag waiting for one starts now; a click selects.
   for (const render::PickResult& pick : frame_.picks) {
     if (pick.id <= last_pick_id_) continue;
-    last_pick_id_ = pick.id, last_pick_object_ = pick.object, last_pick_world_ = pick.world;
+    last_pick_id_ = pick.id, last_pick_object_ = pick.object;
     if (drag_.kind == Drag::Kind::pending && drag_.pick == pick.id) {
       if (pick.object >= 0 && pick.object == selected_object_) {
         drag_.kind = Drag::Kind::object, drag_.index = pick.object, drag_.grab = pick.world;
@@ -924,10 +923,6 @@ void Viewer::take_newest_frame() {
       selected_object_ = pick.object, selected_light_ = -1;
       click_pick_.reset();
     }
-  }
-  if (click_pick_ && click_pick_object_ != -2 && *click_pick_ == last_pick_id_) {
-    selected_object_ = click_pick_object_, selected_light_ = -1;
-    click_pick_.reset();
   }
   // Recording: one key per renderer frame shown.
   if (recording_) {
@@ -1154,7 +1149,6 @@ int Viewer::run() {
   auto last = start;
   const auto ui_period = std::chrono::duration<double>(1.0 / options_.ui_fps);
   auto next_ui = start;
-  uint64_t ui_frame = 0;
   bool benchmark_started = false;
   size_t benchmark_first_latency = 0, benchmark_first_upload = 0, benchmark_first_render = 0;
   Clock::time_point benchmark_start;
@@ -1169,7 +1163,6 @@ int Viewer::run() {
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last).count();
     last = now;
-    ++ui_frame;
 
     // The renderer follows the framebuffer size, once it has stayed the same for 150 ms.
     int fw, fh;
