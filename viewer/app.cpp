@@ -55,7 +55,8 @@ void on_glfw_error(int, const char* description) { glfw_error_text = description
 // The shader hold of --test-hold-shader: the shading thread waits while this is set.
 std::atomic<bool> shader_held{false};
 
-// Linear RGB -> RGBA8 for display: io/image's tone map, then sRGB through a table.
+// Linear RGB -> RGBA8 for display: io/image's tone map, then sRGB through a table (65537 entries:
+// at most one level from write_image's exact encoding, and that rarely).
 class DisplayEncoder {
  public:
   DisplayEncoder() {
@@ -82,7 +83,7 @@ class DisplayEncoder {
   }
 
  private:
-  std::array<uint8_t, 4097> table_;
+  std::array<uint8_t, 65537> table_;
   std::atomic<float> exposure_{0.0f};
 };
 
@@ -304,7 +305,7 @@ const char* const kKeyHelp[][2] = {
     {"F1..F7", "stage view (final ... depth)"},
     {"M", "next mode"},
     {"P", "screenshot (PNG and EXR)"},
-    {"Tab / H / Escape", "panel / this help / quit"},
+    {"Tab / H / Escape", "panel and overlay / help / quit"},
 };
 
 struct Drag {
@@ -737,13 +738,17 @@ void Viewer::save_window(const std::string& file) {
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadBuffer(GL_BACK);
   glReadPixels(0, 0, fb_width_, fb_height_, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+  // The screen's bytes, as linear values whose tone map gives them back: write_image (8-bit)
+  // then writes the same bytes.
   RgbImage image(fb_width_, fb_height_);
   const auto& lut = srgb8_to_linear();
   for (int y = 0; y < fb_height_; ++y)
-    for (int x = 0; x < fb_width_; ++x)
-      for (int c = 0; c < 3; ++c)
-        image.at(x, y)[c] = lut[rgb[(size_t(fb_height_ - 1 - y) * size_t(fb_width_) + size_t(x)) * 3 + size_t(c)]];
-  write_image(file, image);  // 8-bit sRGB round trip: the same bytes as on screen
+    for (int x = 0; x < fb_width_; ++x) {
+      float display[3];
+      for (int c = 0; c < 3; ++c) display[c] = lut[rgb[(size_t(fb_height_ - 1 - y) * size_t(fb_width_) + size_t(x)) * 3 + size_t(c)]];
+      inverse_tone_map(display, image.at(x, y));
+    }
+  write_image(file, image);
 }
 
 void Viewer::frame_input(double dt) {
@@ -1123,7 +1128,7 @@ void Viewer::draw_ui() {
   ImGui::NewFrame();
   draw_light_markers();
   draw_panel();
-  draw_overlay();
+  if (show_panel_) draw_overlay();
   draw_help();
   ImGui::Render();
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -1214,7 +1219,8 @@ int Viewer::run() {
       }
     }
 
-    if (options_.frames > 0 && frame_.number >= uint64_t(options_.frames)) quit_ = true;
+    // --frames N ends the run at frame N, unless a script runs: then it only stops the renderer.
+    if (options_.frames > 0 && options_.script.empty() && frame_.number >= uint64_t(options_.frames)) quit_ = true;
 
     // Redraw only when something changed (a new frame, recent input, a script, a drag, a held
     // key) or a quarter second passed: on a shared CPU an idle window leaves the cores to the

@@ -15,7 +15,9 @@ int main(int argc, char** argv) {
   ViewerOptions options;
   epi::cli::add_render_options(app, options.render, true);
   app.add_option("--script", options.script, "Play a script of input commands and exit when it ends (docs/viewer.md)");
-  app.add_option("--frames", options.frames, "Run N frames of the renderer with no input, save --screenshot, exit")
+  app.add_option("--frames", options.frames,
+                 "Run N frames of the renderer with no input, save --screenshot, exit (with --script: the renderer stops after "
+                 "N frames, the script runs to its end)")
       ->check(CLI::Range(1, 1000000));
   app.add_option("--screenshot", options.screenshot, "Save the rendered image on exit (.png tone-mapped, .exr linear)");
   app.add_option("--benchmark", options.benchmark, "Run N window frames orbiting the camera, print frame-time statistics, exit")

@@ -196,6 +196,31 @@ TEST(ViewerWindow, CameraPathPlaysAsInEpiRender) {
   EXPECT_EQ(a.pixels, b.pixels) << "mean difference " << mean_abs_diff(a, b);
 }
 
+// What the window shows is the rendered image: the frame thread's pixel buffer, uploaded and
+// blitted the right way up, equals the screenshot file up to the display table's rounding.
+TEST(ViewerWindow, TheWindowShowsTheRenderedImage) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = temp_dir("window");
+  write_file(dir / "s.txt", "wait 20\nkey TAB\nwait 5\nscreenshot " + (dir / "image.png").string() + "\nwindow-screenshot " +
+                                (dir / "window.png").string() + "\n");
+  const ProgramRun v = viewer(kCornell + " --size 160x120 --sync --frames 6 --script " + (dir / "s.txt").string());
+  ASSERT_EQ(v.exit_code, 0) << v.out;
+  const epi::RgbImage image = epi::read_image(dir / "image.png"), window = epi::read_image(dir / "window.png");
+  ASSERT_EQ(window.width, 160);
+  ASSERT_EQ(window.height, 120);
+  // Panel and overlay hidden (Tab): the whole window.
+  float worst = 0.0f;
+  double lit = 0.0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x)
+      for (int c = 0; c < 3; ++c) {
+        worst = std::max(worst, std::abs(image.at(x, y)[c] - window.at(x, y)[c]));
+        lit += image.at(x, y)[c];
+      }
+  EXPECT_GT(lit, 1.0) << "the image is not black";
+  EXPECT_LT(worst, 0.01f) << "linear: one 8-bit level at most (the display's sRGB table rounds)";
+}
+
 TEST(ViewerWindow, OrbitPanAndDollyMoveTheCameraAndTheImage) {
   REQUIRE_DISPLAY();
   const fs::path dir = temp_dir("navigate");
