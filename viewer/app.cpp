@@ -248,6 +248,7 @@ class Viewer {
   std::deque<Clock::time_point> ui_frames_, render_frames_;
   std::vector<double> upload_ms_, upload_finish_ms_, latency_ms_, ui_frame_ms_, render_frame_ms_;
   double last_upload_ms_ = 0.0, last_latency_ms_ = 0.0;
+  uint64_t ring_frames_ = 0, copied_frames_ = 0;  // new frames shown from the frame thread's pixel buffers / copied
   uint64_t frames_shown_ = 0;
 };
 
@@ -676,8 +677,13 @@ void Viewer::take_newest_frame() {
     return target;
   });
   if (!taken) return;
-  if (mapped) texture_->finish_upload();
-  else if (frame_.display_tag >= 0) mapped = ring_->upload(frame_.display_tag, *texture_, frame_.width, frame_.height);
+  if (mapped) {
+    texture_->finish_upload();
+    ++copied_frames_;
+  } else if (frame_.display_tag >= 0) {
+    mapped = ring_->upload(frame_.display_tag, *texture_, frame_.width, frame_.height);
+    ring_frames_ += mapped;
+  }
   const auto now = Clock::now();
   ++frames_shown_;
   if (frame_.error != last_error_ && !frame_.error.empty()) std::fprintf(stderr, "epi-viewer: %s\n", frame_.error.c_str());
@@ -1053,6 +1059,8 @@ int Viewer::run() {
                 seconds > 0 ? frames / seconds : 0.0, frames, rf.median, rf.min, rf.max);
     std::printf("BENCHMARK_DISPLAY_MS median %.3f, max %.3f (the texture takes the frame from its pixel buffer, CPU); with glFinish median %.3f, max %.3f\n",
                 up.median, up.max, upf.median, upf.max);
+    std::printf("BENCHMARK_DISPLAY_PATH %llu frames from the frame thread's pixel buffers, %llu copied (no buffer free)\n",
+                (unsigned long long)ring_frames_, (unsigned long long)copied_frames_);
     std::printf("BENCHMARK_LATENCY_MS median %.1f, p90 %.1f, max %.1f (input to the first frame on screen that reflects it; %zu inputs)\n",
                 lat.median, lat.p90, lat.max, lat.n);
   }
