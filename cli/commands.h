@@ -1,5 +1,6 @@
-// The `epi` subcommands. cli/main.cpp (CLI11, the only file that includes it) parses the
-// command line into these structs and calls run_*; each run_* lives in its own file and
+// The `epi` subcommands. cli/main.cpp (CLI11; with render_flags.cpp, which adds the render
+// flags shared with epi-viewer, the only files that include it) parses the command line into
+// these structs and calls run_*; each run_* lives in its own file and
 // returns the process exit code. Errors are thrown as exceptions whose what() is one line
 // naming the file and the problem; main prints "epi: <what>" and exits 1. A command line that
 // does not parse (unknown flag, bad value, no subcommand) prints the problem and the usage and
