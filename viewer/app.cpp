@@ -859,6 +859,8 @@ void Viewer::draw_panel() {
   ImGui::Checkbox("occlusion test", &s.frame.occlusion_test);
   ImGui::Checkbox("occlusion culling", &s.frame.occlusion_culling);
   ImGui::SameLine();
+  ImGui::Checkbox("fill holes", &s.frame.fill_holes);
+  ImGui::SameLine();
   ImGui::Checkbox("sync", &s.frame.sync);
   int threads = s.threads;
   if (ImGui::InputInt("threads (0: all)", &threads) && threads >= 0 && threads <= 1024) s.threads = threads;
