@@ -860,8 +860,7 @@ void Viewer::draw_panel() {
   ImGui::Checkbox("occlusion culling", &s.frame.occlusion_culling);
   ImGui::SameLine();
   ImGui::Checkbox("fill holes", &s.frame.fill_holes);
-  ImGui::SameLine();
-  ImGui::Checkbox("sync", &s.frame.sync);
+  ImGui::Checkbox("sync (shade the budget inside each frame)", &s.frame.sync);
   int threads = s.threads;
   if (ImGui::InputInt("threads (0: all)", &threads) && threads >= 0 && threads <= 1024) s.threads = threads;
   float max_fps = float(s.max_fps);
