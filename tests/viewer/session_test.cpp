@@ -212,7 +212,10 @@ TEST(Session, RaytraceAccumulatesWhileStillAndRestartsOnAMove) {
   in.camera.eye.z += 0.5f;
   const uint64_t seq = session.post(in);
   const SessionFrame moved = frame_after(session, seq);
-  EXPECT_LE(moved.passes, 2) << "a moved camera starts a new accumulation";
+  // Without a restart the count would go on from `later`'s; the window may see the moved view a
+  // few passes late, so only the restart is asserted.
+  EXPECT_LT(moved.passes, later.passes + int(moved.number - later.number)) << "a moved camera starts a new accumulation";
+  EXPECT_LE(moved.passes, int(moved.number - later.number));
 }
 
 }  // namespace
