@@ -33,6 +33,16 @@ int run_render(const RenderOptions& options);
 // The frame loop behind `render --mode epi|rendercache` (cli/frames.cpp).
 int run_render_frames(const RenderOptions& options);
 
+// `epi compare IMAGE REFERENCE`: the quality metrics of io/image/image_compare.h.
+struct CompareOptions {
+  std::string image, reference;
+  std::string json;        // FILE, empty: none
+  std::string diff;        // difference image to write, empty: none
+  float diff_scale = 4.0f;
+  float exposure = 0.0f;   // stops, for linear images on their way to display space
+};
+int run_compare(const CompareOptions& options);
+
 // The 2D harness of core/epi (issue 3).
 struct ReconstructOptions {
   std::string pattern;  // PATTERN.json

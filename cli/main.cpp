@@ -34,13 +34,31 @@ int main(int argc, char** argv) {
   add_render_options(*render_cmd, render, true);
   render_cmd->add_option("--frames", render.frames, "Frames to run (epi, rendercache); the image is the last frame")->check(CLI::Range(1, 1000000))->capture_default_str();
   render_cmd->add_option("--frames-out", render.frames_out, "Write every frame, e.g. frames/f%04d.png");
+  render_cmd->add_flag("!--no-speedup", render.speedup,
+                       "Skip the 1-spp ray trace of the last view that the speed-up over ray tracing is measured with");
 #else
   add_render_options(*render_cmd, render, false);
 #endif
   render_cmd->add_option("-o,--output", render.output, "Output image; format from the extension (.exr linear, .png sRGB)")
       ->capture_default_str();
   render_cmd->add_option("--stats", render.stats, "Write timings, rays traced and Mrays/s, and counts as JSON");
+  render_cmd->add_option("--reference", render.reference,
+                         "Print the written image's error against this reference image (as epi compare), also into --stats");
   render_cmd->add_flag("--quiet", render.quiet, "No progress bar, no repair report");
+
+  CompareOptions compare;
+  CLI::App* compare_cmd = app.add_subcommand(
+      "compare", "Compare an image with a reference: display-space RMSE, relative MSE (linear), pixels off by > 0.1 and > 0.2");
+  compare_cmd->add_option("image", compare.image, "Image file (.exr linear, .png display-referred)")->required();
+  compare_cmd->add_option("reference", compare.reference, "Reference image of the same size")->required();
+  compare_cmd->add_option("--json", compare.json, "Write the metrics as JSON");
+  compare_cmd->add_option("--diff", compare.diff, "Write the display difference, per channel, times --diff-scale, as an image");
+  compare_cmd->add_option("--diff-scale", compare.diff_scale, "Factor on the difference image")
+      ->check(CLI::Range(0.001f, 1000.0f))
+      ->capture_default_str();
+  compare_cmd->add_option("--exposure", compare.exposure, "Exposure in stops taking linear images to display space, as for PNG output")
+      ->check(CLI::Range(-32.0f, 32.0f))
+      ->capture_default_str();
 
 #ifdef EPI_WITH_RECONSTRUCT
   ReconstructOptions reconstruct;
@@ -88,6 +106,7 @@ int main(int argc, char** argv) {
   try {
     if (info_cmd->parsed()) return run_info(info);
     if (render_cmd->parsed()) return run_render(render);
+    if (compare_cmd->parsed()) return run_compare(compare);
 #ifdef EPI_WITH_RECONSTRUCT
     if (reconstruct_cmd->parsed()) return run_reconstruct(reconstruct);
 #endif

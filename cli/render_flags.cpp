@@ -88,6 +88,9 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
         ->check(CLI::Range(0.0, 1.0))
         ->capture_default_str();
     app.add_option("--camera-path", render.camera_path, "Camera keys per frame (docs/camera-path.md)");
+    app.add_flag("--soft-shadow-edges", render.soft_shadow_edges,
+                 "epi mode: also cut interpolation at area lights' umbral and penumbral edges, as the paper does "
+                 "(off by default: it costs quality where a penumbra is a few pixels wide; docs/render.md)");
   } else {
     render.mode = "reference";  // built without the frame loop
     app.add_option("--mode", render.mode, "reference: converged, --spp samples per pixel; raytrace: 1 sample per pixel")

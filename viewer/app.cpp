@@ -132,6 +132,7 @@ class Viewer {
     s.frame.sample_budget = options.render.sample_budget;
     s.frame.sync = options.render.sync;
     s.frame.seed = options.render.seed;
+    s.frame.soft_shadow_edges = options.render.soft_shadow_edges;
     s.shader = cli::shader_settings(options.render);
     s.reference_spp = options.render.spp;
     s.threads = options.render.threads;

@@ -30,6 +30,10 @@ void tone_map(const float* linear, float exposure_stops, float* display);
 // bytes (the viewer's window screenshots).
 void inverse_tone_map(const float* display, float* linear);
 
+// sRGB transfer functions on [0, 1].
+float linear_to_srgb(float v);
+float srgb_to_linear(float v);
+
 struct ImageWriteOptions {
   float exposure = 0.0f;  // stops, for the 8-bit formats (linear formats are written untouched)
 };
