@@ -79,8 +79,6 @@ double mean(const std::vector<double>& v) {
 // ~139 bytes measured as the peak RSS of `epi render --size 2048x2048` less 512x512 (Cornell box).
 constexpr double kFrameLoopBytesPerPixel = 160.0;
 
-bool has_camera_override(const CameraOverride& c) { return c.eye || c.target || c.up || c.fov_degrees; }
-
 }  // namespace
 
 int run_render_frames(const RenderOptions& options) {
@@ -102,8 +100,7 @@ int run_render_frames(const RenderOptions& options) {
                         options.memory_limit);
   std::optional<ReferenceImage> reference;  // read and its size checked before work
   if (!options.reference.empty()) reference = read_reference(options.reference, options.width, options.height);
-  if (!(options.sample_budget > 0.0 && options.sample_budget <= 1.0))
-    throw std::invalid_argument("--sample-budget " + std::to_string(options.sample_budget) + " is not in (0, 1]");
+  check_sample_budget(options);
 
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
@@ -122,7 +119,7 @@ int run_render_frames(const RenderOptions& options) {
   render::CameraPath path;
   if (!options.camera_path.empty()) {
     path = render::read_camera_path(options.camera_path, scene);
-  } else if (has_camera_override(options.camera)) {
+  } else if (options.camera.any()) {
     path.cameras.push_back({0, apply_camera_override(scene, options.camera)});
   } else {
     path = render::scene_camera_path(scene, options.frames);
@@ -273,7 +270,7 @@ int run_render_frames(const RenderOptions& options) {
         {"threads", threads},
         {"triangles", scene.triangle_count()},
         {"camera_path", !options.camera_path.empty()            ? options.camera_path
-                        : has_camera_override(options.camera) || scene.camera_path.empty() ? std::string("still")
+                        : options.camera.any() || scene.camera_path.empty() ? std::string("still")
                                                                                           : std::string("scene")},
         {"stages_ms",
          {{"find_edges", median(series.find_edges)},
