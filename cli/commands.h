@@ -57,6 +57,7 @@ struct RenderOptions {
   double sample_budget = 0.02; // fraction of the pixels requested per frame
   std::string camera_path;     // file of camera keys per frame; empty: the scene's path, else still
   std::string frames_out;      // printf-style pattern for every frame's image, e.g. out/f%04d.png
+  std::string save_epi;        // mode epi: the last frame's EPI snapshot (io/snapshot), empty: none
 };
 int run_render(const RenderOptions& options);
 // The shader settings a render asks for (kind, seed and sample counts).

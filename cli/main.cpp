@@ -106,6 +106,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   render_cmd->add_option("--camera-path", render.camera_path, "Camera keys per frame (docs/camera-path.md)");
   render_cmd->add_option("--frames-out", render.frames_out, "Write every frame, e.g. frames/f%04d.png");
+  render_cmd->add_option("--save-epi", render.save_epi, "Write the last frame's EPI snapshot (mode epi), for epi-visualizer");
 #else
   render.mode = "reference";  // built without the frame loop
   render_cmd->add_option("--mode", render.mode, "reference: converged, --spp samples per pixel; raytrace: 1 sample per pixel")

@@ -1,5 +1,6 @@
 #include "epi/complex_filter.h"
 
+#include <algorithm>
 #include <numeric>
 
 #include "epi/geometry.h"
@@ -25,10 +26,11 @@ int find(int* parent, int i) {
 // Region of a sub-pixel at local point p (empty: region 0).
 int region_at(const SubPixel& s, geom::Vec2 p) { return s.kind == CellKind::simple ? geom::region_of(s.edge, p) : 0; }
 
-}  // namespace
-
-void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
-                   float out[3]) {
+// The filter; with kTrace it records into *trace (complex_pixel_traced), without it compiles
+// to the plain filter.
+template <bool kTrace>
+void complex_impl(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3], float out[3],
+                  ComplexTrace* trace) {
   // Classify the 6x6 sub-pixels.
   SubPixel sub[kGrid][kGrid];
   for (int v = 0; v < kGrid; ++v)
@@ -43,6 +45,7 @@ void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
       const geom::CellClass c = geom::classify_cell(sides, 4);
       sub[v][u].kind = c.kind;
       if (c.kind == CellKind::simple) sub[v][u].edge = geom::cell_edge(c.p_low, c.p_high, 4);
+      if constexpr (kTrace) trace->sub[v][u].kind = c.kind, trace->sub[v][u].p_low = c.p_low, trace->sub[v][u].p_high = c.p_high;
     }
 
   // Connect regions across shared sides: nodes (v * 6 + u) * 2 + region.
@@ -89,20 +92,28 @@ void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
       const int r = sample_region(e), rx = r & 3, ry = r >> 2;
       const int u = 2 * (qx - x + 1) + (rx >> 1), v = 2 * (qy - y + 1) + (ry >> 1);
       const SubPixel& s = sub[v][u];
-      int region = 0;
-      if (s.kind == CellKind::complex) continue;
-      if (s.kind == CellKind::simple) {
-        region = geom::square_side(s.edge, (rx & 1) * 0.5, (ry & 1) * 0.5, 0.5);
-        if (region == 2) continue;
+      int region = s.kind == CellKind::complex ? 3 : 0;
+      if (s.kind == CellKind::simple) region = geom::square_side(s.edge, (rx & 1) * 0.5, (ry & 1) * 0.5, 0.5);
+      if constexpr (kTrace) {
+        ComplexTrace::Sample traced{qx, qy, u, v, region, region < 2 ? find(parent, node(u, v, region)) : -1, {}};
+        decode_color(epi.color_at(qx, qy), traced.rgb);
+        trace->samples.push_back(traced);
       }
+      if (region >= 2) continue;
       Placed& p = samples[count++];
       p.root = find(parent, node(u, v, region));
       p.u = u, p.v = v;
       decode_color(epi.color_at(qx, qy), p.rgb);
     }
+  if constexpr (kTrace)
+    for (int v = 0; v < kGrid; ++v)
+      for (int u = 0; u < kGrid; ++u)
+        if (sub[v][u].kind != CellKind::complex)
+          for (int region = 0; region < (sub[v][u].kind == CellKind::simple ? 2 : 1); ++region)
+            trace->sub[v][u].group[region] = find(parent, node(u, v, region));
 
   // Colour of one region of a centre sub-pixel.
-  auto region_color = [&](int u, int v, int region, float rgb[3]) {
+  auto region_color = [&](int u, int v, int region, float rgb[3]) -> bool {
     const int root = find(parent, node(u, v, region));
     float sum[3] = {0, 0, 0}, total = 0;
     for (int k = 0; k < count; ++k) {
@@ -113,6 +124,7 @@ void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
       total += w;
     }
     for (int c = 0; c < 3; ++c) rgb[c] = total > 0 ? sum[c] / total : estimate[c];
+    return total > 0;
   };
 
   out[0] = out[1] = out[2] = 0;
@@ -120,17 +132,37 @@ void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
     for (int u = 2; u <= 3; ++u) {
       const SubPixel& s = sub[v][u];
       float rgb[3] = {estimate[0], estimate[1], estimate[2]};
+      [[maybe_unused]] ComplexTrace::Centre traced;
       if (s.kind == CellKind::empty) {
-        region_color(u, v, 0, rgb);
+        const bool found = region_color(u, v, 0, rgb);
+        if constexpr (kTrace) traced.region_found[0] = found, std::copy(rgb, rgb + 3, traced.region_rgb[0]);
       } else if (s.kind == CellKind::simple) {
         float a_rgb[3], b_rgb[3];
-        region_color(u, v, 0, a_rgb);
-        region_color(u, v, 1, b_rgb);
+        const bool found_a = region_color(u, v, 0, a_rgb);
+        const bool found_b = region_color(u, v, 1, b_rgb);
         const float a = float(geom::area_a(s.edge));
         for (int c = 0; c < 3; ++c) rgb[c] = a * a_rgb[c] + (1.0f - a) * b_rgb[c];
+        if constexpr (kTrace) {
+          traced.area_a = a, traced.region_found[0] = found_a, traced.region_found[1] = found_b;
+          std::copy(a_rgb, a_rgb + 3, traced.region_rgb[0]), std::copy(b_rgb, b_rgb + 3, traced.region_rgb[1]);
+        }
       }
+      if constexpr (kTrace) std::copy(rgb, rgb + 3, traced.rgb), trace->centre[(v - 2) * 2 + (u - 2)] = traced;
       for (int c = 0; c < 3; ++c) out[c] += 0.25f * rgb[c];
     }
+}
+
+}  // namespace
+
+void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
+                   float out[3]) {
+  complex_impl<false>(epi, masks, x, y, estimate, out, nullptr);
+}
+
+void complex_pixel_traced(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
+                          float out[3], ComplexTrace& trace) {
+  trace = {};
+  complex_impl<true>(epi, masks, x, y, estimate, out, &trace);
 }
 
 }  // namespace epi
