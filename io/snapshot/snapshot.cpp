@@ -134,7 +134,8 @@ Snapshot load_snapshot(const std::string& file) {
   r.get_all(s.masks.left, cells, "left masks");
   if (s.masks.centre_lines) r.get_all(s.masks.centre_h, cells, "centre masks"), r.get_all(s.masks.centre_v, cells, "centre masks");
   const uint64_t count = r.get<uint64_t>("segment count");
-  if (count > r.left() / 32) r.fail("segment count " + std::to_string(count) + " exceeds the rest of the file");
+  if (count > r.left() / 32)
+    r.fail("truncated: segment count " + std::to_string(count) + " needs more than the " + std::to_string(r.left()) + " bytes left");
   s.segments.resize(size_t(count));
   for (Segment& g : s.segments) {
     g = {r.get<double>("segments"), r.get<double>("segments"), r.get<double>("segments"), r.get<double>("segments")};

@@ -1,0 +1,148 @@
+// epi-visualizer as a teacher meets it: headless export of a preset and of a snapshot saved by
+// `epi render --save-epi`, one clear line and a non-zero exit for bad input (nothing written),
+// and the window under xvfb-run (a screenshot of the drawing and the controls).
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;  // stdout and stderr together
+};
+
+RunResult run(const std::string& command) {
+  RunResult r;
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buffer;
+  size_t n;
+  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.out.append(buffer.data(), n);
+  const int status = ::pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+const std::string kVisualizer = std::string(EPI_BINARY_DIR) + "/bin/epi-visualizer";
+const std::string kEpi = std::string(EPI_BINARY_DIR) + "/bin/epi";
+
+fs::path temp_dir() {
+  const fs::path dir = fs::temp_directory_path() / ("epi-visualizer-cli-" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string read_file(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+size_t lines(const std::string& s) {
+  size_t n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+TEST(VisualizerCli, ExportsAPresetWithoutADisplay) {
+  const fs::path dir = temp_dir() / "preset";
+  fs::remove_all(dir);
+  const RunResult r = run("env -u DISPLAY " + kVisualizer + " slivers --pixel 11,7 --density 0.4 --seed 3 --export " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(read_file(dir / "trace.json"));
+  EXPECT_EQ(j["pixel"], nlohmann::json::array({11, 7}));
+  EXPECT_EQ(j["density"], 0.4);
+  EXPECT_EQ(j["class"], "complex");
+  EXPECT_TRUE(fs::exists(dir / "animation.gif"));
+  EXPECT_TRUE(fs::exists(dir / ("step_" + std::string(j["steps"].size() < 100 ? "0" : "") + std::to_string(j["steps"].size()) + ".svg")));
+}
+
+TEST(VisualizerCli, ListsThePresets) {
+  const RunResult r = run(kVisualizer + " --list-presets");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  for (const char* name : {"checkerboard", "wedges", "slivers", "t-junction", "tangent", "corners", "borders"})
+    EXPECT_NE(r.out.find(name), std::string::npos) << name;
+}
+
+TEST(VisualizerCli, FollowsASnapshotSavedByRender) {
+  const fs::path dir = temp_dir();
+  const fs::path snap = dir / "frame.epis", out = dir / "snapshot-steps";
+  fs::remove_all(out);
+  const RunResult render = run(kEpi + " render " + EPI_SOURCE_DIR + "/scenes/cornell_box.gltf --mode epi --size 48x40 --frames 3 "
+                         "--sample-budget 0.1 --sync --quiet -o " + (dir / "frame.png").string() + " --save-epi " + snap.string());
+  ASSERT_EQ(render.exit_code, 0) << render.out;
+  const RunResult r = run(kVisualizer + " " + snap.string() + " --pixel 20,20 --export " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const nlohmann::json j = nlohmann::json::parse(read_file(out / "trace.json"));
+  EXPECT_EQ(j["width"], 48);
+  EXPECT_FALSE(j.contains("density"));
+  // --save-epi needs the EPI.
+  const RunResult raytrace = run(kEpi + " render " + EPI_SOURCE_DIR + "/scenes/cornell_box.gltf --mode raytrace --size 8x8 --quiet -o " +
+                           (dir / "rt.png").string() + " --save-epi " + (dir / "rt.epis").string());
+  EXPECT_NE(raytrace.exit_code, 0);
+  EXPECT_FALSE(fs::exists(dir / "rt.epis"));
+}
+
+TEST(VisualizerCli, BadInputGetsOneLineAndWritesNothing) {
+  const fs::path dir = temp_dir();
+  const fs::path out = dir / "never";
+  fs::remove_all(out);
+  std::ofstream(dir / "garbage.json") << "{\"width\": 4, \"height\":";
+  std::ofstream(dir / "short.epis", std::ios::binary) << "EPISNAP1\x10\x00";
+  std::ofstream(dir / "bad.epis", std::ios::binary) << "EPISNAP1" << std::string(12, '\0');
+  const struct {
+    std::string args, words;
+  } cases[] = {
+      {(dir / "garbage.json").string(), "garbage.json"},
+      {(dir / "short.epis").string(), "truncated"},
+      {(dir / "bad.epis").string(), "image size"},
+      {(dir / "missing.json").string(), "no such file"},
+      {"no-such-preset", "not a preset"},
+      {"wedges --pixel 99,1", "outside"},
+      {"wedges --pixel 3", "X,Y"},
+  };
+  for (const auto& c : cases) {
+    const RunResult r = run(kVisualizer + " " + c.args + " --export " + out.string());
+    EXPECT_NE(r.exit_code, 0) << c.args;
+    EXPECT_EQ(lines(r.out), 1u) << c.args << ": " << r.out;
+    EXPECT_EQ(r.out.rfind("epi-visualizer: ", 0), 0u) << r.out;
+    EXPECT_NE(r.out.find(c.words), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(out)) << c.args;
+    EXPECT_FALSE(fs::exists(out.string() + ".partial")) << c.args;
+  }
+  // No display and no --export: one line that says what to do.
+  const RunResult r = run("env -u DISPLAY " + kVisualizer + " wedges");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_EQ(lines(r.out), 1u) << r.out;
+  EXPECT_NE(r.out.find("--export"), std::string::npos) << r.out;
+}
+
+TEST(VisualizerCli, WindowDrawsUnderXvfb) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
+  const fs::path shot = temp_dir() / "window.png";
+  fs::remove(shot);
+  const RunResult r = run("xvfb-run -a -s '-screen 0 1600x900x24' " + kVisualizer + " checkerboard --step 30 --screenshot " + shot.string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const std::string png = read_file(shot);
+  ASSERT_GT(png.size(), 24u);
+  auto be32 = [&](size_t at) {
+    return uint32_t(uint8_t(png[at])) << 24 | uint32_t(uint8_t(png[at + 1])) << 16 | uint32_t(uint8_t(png[at + 2])) << 8 | uint8_t(png[at + 3]);
+  };
+  EXPECT_EQ(png.substr(12, 4), "IHDR");
+  EXPECT_EQ(be32(16), 1590u);  // the drawing (1280) and the control panel (310)
+  EXPECT_EQ(be32(20), 800u);
+  EXPECT_GT(png.size(), 30000u);  // a drawing, not a blank window
+}
+
+}  // namespace
