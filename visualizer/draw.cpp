@@ -120,6 +120,11 @@ class Painter {
     for (const Arrow& a : s_.view.arrows) arrow(a);
     if (s_.view.samples) samples();
     for (const CellMark& mk : s_.view.marks) mark_label(mk);
+    for (const Text& t : s_.view.texts) {
+      font(cr_, t.size, true);
+      set(cr_, t.color);
+      centred_text(cr_, t.text, cx(t.x), cy(t.y), true);
+    }
     cairo_restore(cr_);
     // Frame and coordinates.
     cairo_set_source_rgb(cr_, 0.3, 0.3, 0.3);

@@ -223,13 +223,22 @@ class Builder {
                         (mask ? "marks the pieces an edge crosses, numbered clockwise around the pixel as boundary positions."
                               : "is empty: no edge crosses it."));
       s.view.radius = 1, s.view.samples = false, s.view.crossings = 1;
-      auto ends = piece(boundary_position(side, 0, 8), 8);
-      auto ends_last = piece(boundary_position(side, 7, 8), 8);
-      Shape sl;
-      sl.points = {{t_.x + ends[0][0], t_.y + ends[0][1]}, {t_.x + ends_last[1][0], t_.y + ends_last[1][1]}};
-      if (side >= 2) sl.points = {{t_.x + ends_last[1][0], t_.y + ends_last[1][1]}, {t_.x + ends[0][0], t_.y + ends[0][1]}};
-      sl.closed = false, sl.stroke = kFocus, sl.width = 8;
-      s.view.shapes.push_back(sl);
+      s.view.marks.clear();  // the side itself is the highlight
+      const Rgba kSide{0.0, 0.55, 0.75, 0.9};
+      for (int bit = 0; bit < 8; ++bit) {
+        const int position = boundary_position(side, bit, 8);
+        const auto ends = piece(position, 8);
+        Shape sl;
+        sl.points = {{t_.x + ends[0][0], t_.y + ends[0][1]}, {t_.x + ends[1][0], t_.y + ends[1][1]}};
+        sl.closed = false, sl.width = 10;
+        sl.stroke = ((mask >> bit) & 1) ? Rgba{0.55, 0.0, 0.55, 1} : kSide;
+        s.view.shapes.push_back(sl);
+        // The piece's boundary position, just inside the pixel.
+        const double mx = 0.5 * (ends[0][0] + ends[1][0]), my = 0.5 * (ends[0][1] + ends[1][1]);
+        const double ix = mx + (side == 1 ? -0.07 : side == 3 ? 0.07 : 0), iy = my + (side == 0 ? 0.07 : side == 2 ? -0.07 : 0);
+        s.view.texts.push_back({t_.x + ix, t_.y + iy, std::to_string(position), 13,
+                                ((mask >> bit) & 1) ? Rgba{0.55, 0.0, 0.55, 1} : Rgba{0.0, 0.35, 0.5, 1}});
+      }
       s.values["side"] = side_name(side);
       s.values["mask (bit 7..0)"] = bits_of(mask, 8);
       s.values["boundary positions"] = positions.empty() ? "none" : positions;

@@ -39,6 +39,12 @@ struct Shape {
   double width = 2;  // canvas px
   bool dashed = false;
 };
+struct Text {
+  double x, y;  // centre, image pixel coordinates
+  std::string text;
+  double size = 14;  // canvas px
+  Rgba color{0.1, 0.1, 0.1, 1};
+};
 struct Swatch {
   std::string label;
   Rgb rgb;  // linear
@@ -60,6 +66,7 @@ struct View {
   std::vector<CellMark> marks;
   std::vector<Shape> shapes;
   std::vector<Arrow> arrows;
+  std::vector<Text> texts;
   std::vector<Swatch> swatches;
 };
 
