@@ -29,6 +29,7 @@ std::string num(double v, int digits = 3) {
   std::snprintf(buf, sizeof(buf), "%.*f", digits, v);
   return buf;
 }
+double srgb(float linear) { return encode_srgb8(linear) / 255.0; }
 std::string offset(int dx, int dy) { return "(" + std::to_string(dx) + "," + std::to_string(dy) + ")"; }
 std::string pixel_name(int x, int y) { return "(" + std::to_string(x) + ", " + std::to_string(y) + ")"; }
 std::string bits_of(unsigned v, int n) {
@@ -41,7 +42,8 @@ std::string reach4(uint8_t m) {
   return std::string("(") + char('0' + (m & 1)) + "," + char('0' + ((m >> 1) & 1)) + "," + char('0' + ((m >> 2) & 1)) +
          "," + char('0' + ((m >> 3) & 1)) + ")";
 }
-Json rgb_json(const Rgb& c) { return Json::array({std::round(c[0] * 1e4) / 1e4, std::round(c[1] * 1e4) / 1e4, std::round(c[2] * 1e4) / 1e4}); }
+// A linear colour as shown: "(r, g, b)", 3 decimals.
+std::string rgb_json(const Rgb& c) { return "(" + num(c[0]) + ", " + num(c[1]) + ", " + num(c[2]) + ")"; }
 const char* side_name(int side) {
   static const char* names[4] = {"top", "right", "bottom", "left"};
   return names[side];
@@ -709,17 +711,15 @@ class Builder {
                     "Each of the pixel's four sub-pixels takes its regions' sample colours (kernel-weighted; simple ones blended by "
                     "area, unreached ones the simple estimate), and the pixel is their average.");
       s.view.radius = 1, s.view.subpixel_grid = true;
-      Json subs = Json::array();
       for (int k = 0; k < 4; ++k) {
         const auto& ce = c.centre[k];
         const int u = 2 + (k & 1), v = 2 + (k >> 1);
         const auto o = sub_rect(u, v);
-        s.view.marks.push_back({o[0], o[1], 0.5, 0.5, {ce.rgb[0], ce.rgb[1], ce.rgb[2], 0.0}, {0.1, 0.1, 0.1, 1}, 2,
-                                std::string("sub ") + std::to_string(k + 1)});
+        s.view.marks.push_back({o[0], o[1], 0.5, 0.5, {srgb(ce.rgb[0]), srgb(ce.rgb[1]), srgb(ce.rgb[2]), 1.0}, {0.1, 0.1, 0.1, 1}, 2,
+                                std::string("sub ") + std::to_string(k + 1), false});
         s.view.swatches.push_back({"sub-pixel " + std::to_string(k + 1), {ce.rgb[0], ce.rgb[1], ce.rgb[2]}});
-        subs.push_back(rgb_json({ce.rgb[0], ce.rgb[1], ce.rgb[2]}));
+        s.values["sub-pixel " + std::to_string(k + 1)] = rgb_json({ce.rgb[0], ce.rgb[1], ce.rgb[2]});
       }
-      s.values["sub-pixel colours"] = subs;
       s.values["simple estimate"] = rgb_json(t_.estimate);
       comparison(s);
     }
