@@ -19,6 +19,7 @@ namespace {
 constexpr size_t kAgeBins = 258;  // ages 0..255 (capped), then off screen
 constexpr uint64_t kEmptyKey = ~uint64_t(0);
 constexpr uint32_t kIndexMask = 0x0fffffffu;  // point index; bits 28-31 hold the sub-pixel region
+constexpr float kMinLobeWidth = 0.02f;         // radians: narrower lobes age as if this wide
 
 // Z-buffer key: depth first (positive floats order like their bits), then region and index.
 uint64_t zkey(float depth, int region, uint32_t index) {
@@ -35,6 +36,29 @@ void atomic_min(uint64_t& slot, uint64_t value) {
 uint32_t pack_srgb(const glm::vec3& c) {
   return uint32_t(encode_srgb8(c.r)) | uint32_t(encode_srgb8(c.g)) << 8 | uint32_t(encode_srgb8(c.b)) << 16;
 }
+
+// Octahedral unit vector packing, 16 bits per coordinate.
+uint32_t pack_unit(glm::vec3 n) {
+  const float l1 = std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
+  if (!(l1 > 0.0f)) return 0;
+  n /= l1;
+  glm::vec2 e(n.x, n.y);
+  if (n.z < 0.0f) e = (1.0f - glm::abs(glm::vec2(e.y, e.x))) * glm::vec2(e.x >= 0.0f ? 1.0f : -1.0f, e.y >= 0.0f ? 1.0f : -1.0f);
+  const auto q = [](float v) { return uint32_t(std::lround((std::clamp(v, -1.0f, 1.0f) * 0.5f + 0.5f) * 65535.0f)); };
+  return q(e.x) | q(e.y) << 16;
+}
+
+glm::vec3 unpack_unit(uint32_t packed) {
+  glm::vec2 e(float(packed & 0xffffu) / 65535.0f * 2.0f - 1.0f, float(packed >> 16) / 65535.0f * 2.0f - 1.0f);
+  glm::vec3 n(e.x, e.y, 1.0f - std::abs(e.x) - std::abs(e.y));
+  if (n.z < 0.0f) {
+    const glm::vec2 f = (1.0f - glm::abs(glm::vec2(e.y, e.x))) * glm::vec2(e.x >= 0.0f ? 1.0f : -1.0f, e.y >= 0.0f ? 1.0f : -1.0f);
+    n.x = f.x, n.y = f.y;
+  }
+  return glm::normalize(n);
+}
+
+float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
 bool shading_changed(const glm::vec3& before, const glm::vec3& after, float threshold) {
   const glm::vec3 d = glm::abs(after - before);
@@ -70,6 +94,19 @@ glm::vec3 PointCache::world_position(const CachePoint& p, const ViewFrame& frame
   return glm::vec3(object_to_world[p.object] * glm::vec4(p.local, 1.0f));
 }
 
+int PointCache::view_age(const CachePoint& p, const glm::vec3& to_eye) const {
+  if (p.lobe_width <= 0.0f || p.object == kNone) return 0;
+  const float total = luminance(p.color);
+  const float share = total > 0.0f ? std::clamp(luminance(p.view_dependent) / total, 0.0f, 1.0f) : 0.0f;
+  if (share <= 0.0f) return 0;
+  const float length = glm::length(to_eye);
+  if (!(length > 0.0f)) return 0;
+  const float turned = std::acos(std::clamp(glm::dot(to_eye / length, unpack_unit(p.view)), -1.0f, 1.0f));
+  const float staleness = turned / std::max(p.lobe_width, kMinLobeWidth);
+  if (staleness > settings_.view_drop && share >= 0.5f) return -1;
+  return int(std::lround(std::min(settings_.view_aging * share * staleness, 4096.0f)));
+}
+
 ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm::mat4> object_to_world) {
   const int w = image_.width, h = image_.height;
   if (frame.view().width != w || frame.view().height != h)
@@ -80,7 +117,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
 
   // Aging and projection with a z-buffer (points in parallel; the minimum key wins).
   struct Counts {
-    size_t projected = 0, expired = 0;
+    size_t projected = 0, expired = 0, view_dropped = 0;
     std::array<uint32_t, kAgeBins> ages{};  // eviction order: age, off-screen points in the top bin
   };
   const Counts counts = tbb::parallel_reduce(
@@ -90,7 +127,15 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
           CachePoint& p = points_[i];
           if (!p.valid) continue;
           p.age = uint16_t(std::min(p.age + 1, 0xffff));
-          const Projection proj = frame.project(world_position(p, frame, object_to_world));
+          const glm::vec3 world = world_position(p, frame, object_to_world);
+          if (const int extra = view_age(p, frame.eye() - world); extra < 0) {
+            p.valid = false, p.image_id = -1;
+            ++c.expired, ++c.view_dropped;
+            continue;
+          } else {
+            p.age = uint16_t(std::min(p.age + extra, 0xffff));
+          }
+          const Projection proj = frame.project(world);
           const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
                               proj.pixel.x < float(w) && proj.pixel.y < float(h);
           if (!inside) {
@@ -115,7 +160,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         return c;
       },
       [](Counts a, const Counts& b) {
-        a.projected += b.projected, a.expired += b.expired;
+        a.projected += b.projected, a.expired += b.expired, a.view_dropped += b.view_dropped;
         for (size_t k = 0; k < kAgeBins; ++k) a.ages[k] += b.ages[k];
         return a;
       });
@@ -178,6 +223,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     for (size_t i = points_.size(); i-- > 0;)
       if (!points_[i].valid) free_slots_.push_back(uint32_t(i));
   }
+  view_dropped_ += counts.view_dropped;
   age_histogram_.assign(counts.ages.begin(), counts.ages.end());
   last_frame_.emplace(frame);
   last_transforms_.assign(object_to_world.begin(), object_to_world.end());
@@ -283,7 +329,8 @@ int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, con
   return -1;
 }
 
-size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::span<const glm::mat4> object_to_world) {
+size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::span<const glm::mat4> object_to_world,
+                          uint16_t epoch) {
   std::vector<glm::mat4> to_object(object_to_world.size());
   std::vector<uint8_t> inverted(object_to_world.size(), 0);
   const int w = image_.width, h = image_.height;
@@ -292,6 +339,10 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
   for (const ShadeResult& r : batch.results) {
     CachePoint point;
     point.color = glm::max(r.color, glm::vec3(0.0f));
+    point.view_dependent = glm::clamp(r.view_dependent, glm::vec3(0.0f), point.color);
+    point.lobe_width = r.hit ? r.lobe_width : 0.0f;
+    point.view = r.hit ? pack_unit(shot.eye() - r.position) : 0;
+    point.epoch = epoch;
     point.srgb = pack_srgb(point.color);
     point.valid = true;
     glm::vec3 world;
@@ -299,6 +350,8 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
       if (!inverted[r.object]) to_object[r.object] = glm::inverse(object_to_world[r.object]), inverted[r.object] = 1;
       point.object = r.object;
       point.local = glm::vec3(to_object[r.object] * glm::vec4(r.position, 1.0f));
+      // Normals go to object space with the transpose of the object-to-world matrix.
+      point.normal = pack_unit(glm::transpose(glm::mat3(object_to_world[r.object])) * r.normal);
       // Where the point was at the last projection (its object may have moved since the shot).
       world = r.object < last_transforms_.size() ? glm::vec3(last_transforms_[r.object] * glm::vec4(point.local, 1.0f))
                                                  : r.position;
@@ -321,7 +374,25 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
             points_[size_t(old)].object == point.object &&
             (point.object == kNone || std::abs(image_.depth[image_.index(px, py)] - proj.depth) <= 0.05f * proj.depth)) {
           replace = old;
-          if (shading_changed(points_[size_t(old)].color, point.color, settings_.change_threshold)) {
+          CachePoint& cached = points_[size_t(old)];
+          const size_t pixel = image_.index(px, py);
+          if ((no_refine_.size() != image_.point.size() || !no_refine_[pixel]) && refines(cached, point)) {
+            // The same surface point under the same placement: one more sample of the same
+            // quantity. A running mean (Welford for the luminance's variance), not a replacement.
+            const float n = float(cached.count) + 1.0f;
+            const float before = luminance(cached.color);
+            cached.color += (point.color - cached.color) / n;
+            cached.view_dependent += (point.view_dependent - cached.view_dependent) / n;
+            cached.luminance_m2 += (luminance(point.color) - before) * (luminance(point.color) - luminance(cached.color));
+            cached.count = uint16_t(std::min<int>(cached.count + 1, 0xffff));
+            cached.srgb = pack_srgb(cached.color);
+            cached.age = 0;
+            ++refined_;
+            ++inserted;
+            continue;
+          }
+          if (cached.epoch != point.epoch &&
+              shading_changed(cached.color, point.color, settings_.change_threshold)) {
             const int r0 = settings_.change_radius;
             for (int qy = std::max(0, py - r0); qy <= std::min(h - 1, py + r0); ++qy)
               for (int qx = std::max(0, px - r0); qx <= std::min(w - 1, px + r0); ++qx) {
@@ -358,6 +429,90 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
   return inserted;
 }
 
+bool PointCache::refines(const CachePoint& cached, const CachePoint& result) const {
+  if (!settings_.refine || cached.epoch != result.epoch || cached.object != result.object || result.object == kNone) return false;
+  if (cached.count == 0xffff) return false;
+  // View-dependent shading is one quantity only from about the same direction.
+  const float total = luminance(result.color) + luminance(cached.color);
+  const float share = total > 0.0f ? (luminance(result.view_dependent) + luminance(cached.view_dependent)) / total : 0.0f;
+  if (share > 0.05f && result.lobe_width > 0.0f) {
+    const float turned = std::acos(std::clamp(glm::dot(unpack_unit(cached.view), unpack_unit(result.view)), -1.0f, 1.0f));
+    if (turned > 0.1f * std::max(result.lobe_width, kMinLobeWidth)) return false;
+  }
+  return true;
+}
+
+size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
+                                        std::span<const uint8_t> edge_pixels) {
+  const int w = image_.width, h = image_.height, radius = std::max(1, settings_.occlusion_radius);
+  if (edge_pixels.size() != image_.point.size()) throw std::invalid_argument("point cache: edge mask size differs from the image");
+  auto barrier = [&](size_t i) { return (edge_pixels[i] & kGeometricEdge) != 0; };
+  const float scale = 1.0f + settings_.occlusion_margin;
+  // Normals back to world space: the inverse transpose of each object's matrix.
+  std::vector<glm::mat3> normal_to_world(object_to_world.size());
+  for (size_t o = 0; o < object_to_world.size(); ++o) normal_to_world[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
+  // A pixel q is seen from p without crossing an edge when no barrier pixel lies on the segment
+  // between their centres (sampled every half pixel), q itself included.
+  auto clear_path = [&](int px, int py, int qx, int qy) {
+    const int steps = 2 * std::max(std::abs(qx - px), std::abs(qy - py));
+    for (int k = 1; k <= steps; ++k) {
+      const float t = float(k) / float(steps);
+      const int x = int(std::floor(float(px) + 0.5f + t * float(qx - px))), y = int(std::floor(float(py) + 0.5f + t * float(qy - py)));
+      if (barrier(image_.index(x, y))) return false;
+    }
+    return true;
+  };
+  std::vector<uint8_t> hidden(image_.point.size(), 0);
+  const size_t removed = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, h, 8), size_t(0),
+      [&](const tbb::blocked_range<int>& rows, size_t count) {
+        for (int y = rows.begin(); y != rows.end(); ++y)
+          for (int x = 0; x < w; ++x) {
+            const size_t i = image_.index(x, y);
+            if (image_.point[i] < 0 || barrier(i)) continue;
+            const float depth = image_.depth[i];
+            const Ray ray = frame.ray(float(x) + (float(image_.region[i] & 3) + 0.5f) * 0.25f,
+                                      float(y) + (float(image_.region[i] >> 2) + 0.5f) * 0.25f);
+            const float ray_depth = glm::dot(ray.direction, frame.forward());  // depth per unit along the ray
+            bool is_hidden = false;
+            for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius) && !is_hidden; ++qy)
+              for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius) && !is_hidden; ++qx) {
+                const size_t q = image_.index(qx, qy);
+                if (image_.point[q] < 0 || !(image_.depth[q] * scale < depth)) continue;
+                const CachePoint& near = points_[size_t(image_.point[q])];
+                if (near.object == kNone || near.object >= object_to_world.size()) continue;
+                // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
+                const glm::vec3 n = glm::normalize(normal_to_world[near.object] * unpack_unit(near.normal));
+                const glm::vec3 at = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));
+                const float facing = glm::dot(n, ray.direction);
+                if (std::abs(facing) < 0.1f) continue;
+                const float plane_depth = glm::dot(n, at - ray.origin) / facing * ray_depth;
+                if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) continue;
+                if (clear_path(x, y, qx, qy)) is_hidden = true;
+              }
+            if (is_hidden) hidden[i] = 1, ++count;
+          }
+        return count;
+      },
+      std::plus<size_t>());
+  for (size_t i = 0; i < hidden.size(); ++i)
+    if (hidden[i]) image_.point[i] = -1, image_.depth[i] = std::numeric_limits<float>::infinity();
+  return removed;
+}
+
+int PointCache::priority_age(const CachePoint& p) const {
+  // The EPI's age byte drives sampling priority (age / 16): points whose mean is still uncertain
+  // ask for samples sooner. Relative standard error of the mean luminance, from the spread of the
+  // results averaged so far (a single result: single_sample_error).
+  float error = settings_.single_sample_error;
+  if (p.count >= 2) {
+    const float n = float(p.count);
+    error = std::sqrt(std::max(p.luminance_m2, 0.0f) / (n * (n - 1.0f))) / (luminance(p.color) + 0.02f);
+  }
+  if (p.object == kNone || settings_.single_sample_error <= 0.0f) return p.age;  // the background is exact
+  return int(std::lround(float(p.age) * std::clamp(error / settings_.single_sample_error, 0.25f, 4.0f)));
+}
+
 void PointCache::fill_epi(EpiImage& epi) const {
   if (epi.width != image_.width || epi.height != image_.height)
     throw std::invalid_argument("point cache: EPI size differs from the cache's image size");
@@ -371,7 +526,7 @@ void PointCache::fill_epi(EpiImage& epi) const {
       }
       const CachePoint& point = points_[size_t(p)];
       epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
-      epi.color[i] = point.srgb | uint32_t(std::min<int>(point.age, 255)) << bits::kAgeShift;
+      epi.color[i] = point.srgb | uint32_t(std::min<int>(priority_age(point), 255)) << bits::kAgeShift;
     }
   });
 }

@@ -26,13 +26,41 @@ struct PointCacheSettings {
   float change_threshold = 0.1f;   // relative colour change that counts as "shading changed"
   int change_penalty = 48;         // age added around a pixel whose shading changed
   int change_radius = 2;           // ... over a (2r+1)^2 window
+  // Edge-aware occlusion (epi mode, cull_behind_surfaces): a drawn point lying more than this
+  // (relative depth) behind the tangent plane of a nearer drawn point within `occlusion_radius`
+  // pixels, with no geometric edge between them, is hidden.
+  float occlusion_margin = 0.05f;
+  int occlusion_radius = 2;
+  // Progressive refinement (docs/render.md, "Convergence at rest"): a result landing on the same
+  // surface point, shaded under the same placement (epoch) and, for view-dependent shading, from
+  // about the same direction, is averaged into it instead of replacing it.
+  bool refine = true;
+  // View-dependent aging: per frame a point gains view_aging x (its view-dependent share) x
+  // (angle between the eye's direction now and at shading / the specular lobe's width) in age, and
+  // is dropped past view_drop lobe widths (when at least half of its colour is view-dependent).
+  float view_aging = 16.0f;
+  float view_drop = 3.0f;
+  // Sampling priority (the age the EPI sees): the age times the relative standard error of the
+  // point's mean luminance over single_sample_error, clamped to [1/4, 4]; a single result counts as
+  // that error (factor 1), so refined, converged points ask later and noisy ones sooner.
+  float single_sample_error = 0.25f;
 };
+
+// Per-pixel edge flags (the renderer's rasterized edges of the last frame).
+inline constexpr uint8_t kGeometricEdge = 1, kShadowEdge = 2;
 
 struct CachePoint {
   glm::vec3 local{0.0f};  // object space; for background (object == kNone) a world direction
-  glm::vec3 color{0.0f};  // linear RGB
+  glm::vec3 color{0.0f};  // linear RGB (the mean of `count` results)
+  glm::vec3 view_dependent{0.0f};  // of color, the part that depends on the eye (ShadeResult::view_dependent)
   uint32_t srgb = 0;      // the colour as the EPI stores it (8-bit sRGB r, g, b), encoded once
   uint32_t object = kNone;
+  uint32_t normal = 0;    // geometric normal in object space, octahedral 16:16 (0 for background)
+  uint32_t view = 0;      // world direction from the point to the eye it was shaded from, octahedral
+  float luminance_m2 = 0.0f;  // sum of squared deviations of the results' luminance (Welford)
+  float lobe_width = 0.0f;    // specular lobe width at the point (radians); 0: none
+  uint16_t count = 1;         // results averaged into color
+  uint16_t epoch = 0;         // placement (objects, lights) the results were shaded under
   int32_t image_id = -1;  // pixel index of the last projection, -1: none
   uint16_t age = 0;
   bool valid = false;
@@ -51,6 +79,7 @@ struct ProjectionCounts {
   size_t projected = 0;  // points landing in the image in front of the eye
   size_t drawn = 0;      // pixels holding a point after z-buffer and depth cull
   size_t culled = 0;     // z-buffer winners removed by the depth cull
+  size_t occluded = 0;   // of the drawn, removed by the edge-aware occlusion test (epi mode)
   size_t expired = 0;    // points freed for exceeding the maximum age
 };
 
@@ -69,7 +98,22 @@ class PointCache {
   // surface; otherwise it takes a free slot, or the next slot in round-robin order. When the
   // replaced point's colour differs noticeably, the points around it are aged (shading changed).
   // Returns the number of results integrated.
-  size_t insert(const ViewFrame& shot, const ShadeBatch& batch, std::span<const glm::mat4> object_to_world);
+  // `epoch` names the placement of objects and lights the shot was traced under: results of one
+  // epoch may refine each other (PointCacheSettings::refine); a new epoch starts every point anew.
+  size_t insert(const ViewFrame& shot, const ShadeBatch& batch, std::span<const glm::mat4> object_to_world,
+                uint16_t epoch = 0);
+
+  // Epi mode, after project(): removes from image() the drawn points that lie behind the tangent
+  // plane of a nearer drawn point close by, unless a geometric edge (silhouette, border, sharp:
+  // `edge_pixels` has kGeometricEdge where such an edge crosses) separates the two. The
+  // EPI's edges say where depth may jump; elsewhere the visible surface is continuous, so a
+  // far point next to a near one shows through a sparsely sampled nearer surface (the dots
+  // of docs/render.md, "Hidden points"). Returns the number removed.
+  size_t cull_behind_surfaces(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
+                              std::span<const uint8_t> edge_pixels);
+  // Pixels (of the last projection) where results replace rather than refine: non-zero entries.
+  // Empty: none.
+  void set_refine_mask(std::span<const uint8_t> no_refine) { no_refine_.assign(no_refine.begin(), no_refine.end()); }
 
   // Writes the drawn points into the EPI as samples (colour, sub-pixel region, age); clears the rest.
   void fill_epi(EpiImage& epi) const;
@@ -83,10 +127,17 @@ class PointCache {
   size_t capacity() const { return points_.size(); }
   size_t valid_points() const;
   size_t hidden_removed() const { return hidden_removed_; }  // points whose slot a ray showed hidden
+  size_t refined() const { return refined_; }                // results averaged into a point
+  size_t view_dropped() const { return view_dropped_; }      // points dropped as the view turned
   const PointCacheSettings& settings() const { return settings_; }
   float background_depth() const { return background_depth_; }
 
  private:
+  // Extra age for a point whose view-dependent shading was made from another direction (to_eye:
+  // from the point to the eye now); -1: drop it.
+  int view_age(const CachePoint& p, const glm::vec3& to_eye) const;
+  bool refines(const CachePoint& cached, const CachePoint& result) const;
+  int priority_age(const CachePoint& p) const;
   size_t take_slot();
   void choose_evict_age(size_t needed);
   int32_t find_hidden(const ViewFrame& shot, const ShadeResult& r, const glm::vec3& last_world,
@@ -98,10 +149,11 @@ class PointCache {
   size_t cursor_ = 0;
   int evict_age_ = 1;                   // take_slot's sweep takes points at least this old
   std::vector<uint32_t> age_histogram_;  // of the last projection less the points evicted since (off-screen last)
-  size_t hidden_removed_ = 0;
+  size_t hidden_removed_ = 0, refined_ = 0, view_dropped_ = 0;
   PointImage image_;
   std::vector<uint64_t> zbuffer_;  // (depth bits << 32) | point index, min wins
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull
+  std::vector<uint8_t> no_refine_;  // see set_refine_mask
   float background_depth_ = 1e6f;  // where background points are placed along their direction
   std::optional<ViewFrame> last_frame_;
   std::vector<glm::mat4> last_transforms_;  // the placement of the last projection

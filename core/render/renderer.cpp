@@ -29,6 +29,27 @@ bool same_camera(const Camera& a, const Camera& b) {
   return a.eye == b.eye && a.target == b.target && a.up == b.up && a.yfov_degrees == b.yfov_degrees;
 }
 
+// Pixels crossed by the edge pieces, sampled every 1/8 pixel along each: kGeometricEdge where a
+// silhouette, sharp or border edge crosses (the visible surface's depth may jump there), kShadowEdge
+// where an umbral, penumbral or shadow edge does.
+void mark_edge_pixels(std::span<const Segment> segments, std::span<const edges::EdgeKind> kinds, int w, int h,
+                      std::vector<uint8_t>& mask) {
+  mask.assign(size_t(w) * size_t(h), 0);
+  for (size_t k = 0; k < segments.size(); ++k) {
+    const bool geometric =
+        kinds[k] == edges::EdgeKind::silhouette || kinds[k] == edges::EdgeKind::sharp || kinds[k] == edges::EdgeKind::border;
+    const uint8_t bit = geometric ? kGeometricEdge : kShadowEdge;
+    const Segment& s = segments[k];
+    const int steps = 1 + int(8.0 * std::hypot(double(s.x1) - double(s.x0), double(s.y1) - double(s.y0)));
+    for (int j = 0; j <= steps; ++j) {
+      const double t = double(j) / steps;
+      const double x = s.x0 + t * (double(s.x1) - double(s.x0)), y = s.y0 + t * (double(s.y1) - double(s.y0));
+      if (!(x >= 0.0 && y >= 0.0 && x < double(w) && y < double(h))) continue;
+      mask[size_t(y) * size_t(w) + size_t(x)] |= bit;
+    }
+  }
+}
+
 }  // namespace
 
 FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shader& shader, const FrameSettings& settings)
@@ -82,7 +103,7 @@ void FrameRenderer::apply_placement(std::span<const glm::mat4> object_to_world, 
   // Shots submitted from now on record the new placement; earlier ones keep theirs, and their
   // results are placed with it (the hit was there), so they then move with their object. A moved
   // light makes cached shading stale; it is left to aging (docs/render.md, "Moving lights").
-  placement_ = std::make_shared<const PlacementState>(PlacementState{transforms_, light_positions_});
+  placement_ = std::make_shared<const PlacementState>(PlacementState{transforms_, light_positions_, uint16_t(placement_->epoch + 1)});
   auto apply = [&rs = ray_scene_, moves = std::move(moves), light_moves = std::move(light_moves)] {
     for (const auto& [o, m] : moves) rs.set_object_transform(o, m);
     for (const auto& [l, p] : light_moves) rs.set_punctual_light_position(l, p);
@@ -116,7 +137,7 @@ void FrameRenderer::integrate(const ShadeBatch& batch) {
             if (t.blocker < transforms_.size() && t.receiver < transforms_.size())
               triples_[{t.light, t.blocker, t.receiver}] = frame_;
       part.results.assign(batch.results.begin() + ptrdiff_t(begin), batch.results.begin() + ptrdiff_t(end));
-      stats_.samples += cache_.insert(shot->frame, part, shot->placement->objects);
+      stats_.samples += cache_.insert(shot->frame, part, shot->placement->objects, shot->placement->epoch);
     }
     begin = end;
   }
@@ -226,7 +247,9 @@ void FrameRenderer::find_and_rasterize_edges(const ViewFrame& frame) {
     std::erase_if(triples_, [this](const auto& t) { return frame_ - t.second > cache_.settings().max_age; });
     std::vector<edges::LightBlockerReceiver> triples;
     triples.reserve(triples_.size());
-    for (const auto& t : triples_) triples.push_back(t.first);
+    const size_t punctual = scene_.punctual_lights.size();  // lights past these are area lights
+    for (const auto& t : triples_)
+      if (settings_.soft_shadow_edges || t.first.light < punctual) triples.push_back(t.first);
     finder_->shadow_edges(edge_scene_, triples, edges_);
   }
   stats_.ms.find_edges = ms_since(t);
@@ -278,16 +301,28 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   }
   integrate(batch);
   stats_.points = cache_.project(frame, transforms_);
-  cache_.fill_epi(epi_);
   stats_.ms.points = ms_since(t) - sampling_ms - stats_.ms.shade;
 
-  // Edges (epi mode).
+  // Edges (epi mode), then the points they show hidden.
   if (settings_.mode == RenderMode::epi) {
     masks_.clear();
     segments_.clear();
     segment_kinds_.clear();
     if (finder_) find_and_rasterize_edges(frame);
   }
+  t = Clock::now();
+  if (settings_.mode == RenderMode::epi) {
+    mark_edge_pixels(segments_, segment_kinds_, settings_.width, settings_.height, edge_pixels_);
+    if (settings_.occlusion_test && finder_ && settings_.view_edges) {
+      stats_.points.occluded = cache_.cull_behind_surfaces(frame, transforms_, edge_pixels_);
+      stats_.points.drawn -= stats_.points.occluded;
+    }
+    // A pixel an edge crosses keeps one side's sample: averaging results from both sides there
+    // would blend what anti-aliasing blends again.
+    cache_.set_refine_mask(edge_pixels_);
+  }
+  cache_.fill_epi(epi_);
+  stats_.ms.points += ms_since(t);
 
   // Reconstruction.
   ReconstructSettings rs;

@@ -45,7 +45,14 @@ struct FrameSettings {
   // epi mode: which edges go into the EPI, and their occlusion culling.
   bool view_edges = true;       // silhouette, sharp, border
   bool shadow_edges = true;     // from the light-blocker-receiver triples the shader reports
+  // Umbral and penumbral edges of area lights (the paper's soft-shadow edges). Off by default:
+  // cutting interpolation at a penumbra a few pixels wide costs more than it gains (docs/render.md,
+  // "Soft-shadow edges"); hard shadow edges of punctual lights are kept either way.
+  bool soft_shadow_edges = false;
   bool occlusion_culling = true;
+  // Points behind the tangent plane of a nearer point with no geometric edge between them are not
+  // drawn (PointCache::cull_behind_surfaces; needs view_edges).
+  bool occlusion_test = true;
   DepthFilterSettings depth_filter;
   // Tests only: runs on the shading thread before each slice of async work (see AsyncShader).
   std::function<void()> before_shading_slice;
@@ -112,6 +119,7 @@ class FrameRenderer {
   struct PlacementState {
     std::vector<glm::mat4> objects;  // object_to_world per object
     std::vector<glm::vec3> lights;   // position per punctual light
+    uint16_t epoch = 0;              // counts placements: shading of one epoch refines its own (PointCache)
   };
   using Placement = std::shared_ptr<const PlacementState>;
   struct Shot {  // a batch of requests, the view they were made for, and the object and light placement
@@ -154,6 +162,7 @@ class FrameRenderer {
   std::vector<Segment> segments_;
   std::vector<edges::EdgeKind> segment_kinds_;
   std::vector<float> filtered_depth_;
+  std::vector<uint8_t> edge_pixels_;  // pixels crossed by geometric edges (occlusion test)
   FrameStats stats_;
   int frame_ = 0;
 };

@@ -149,8 +149,8 @@ struct Shader::Tracer {
     return false;
   }
 
-  // Reflected radiance from punctual light i.
-  glm::vec3 punctual(const Surface& s, const BrdfParams& brdf, uint32_t i) {
+  // Reflected radiance from punctual light i, per lobe.
+  BrdfValue punctual(const Surface& s, const BrdfParams& brdf, uint32_t i) {
     const PunctualLight& light = scene.punctual_lights()[i];
     glm::vec3 wi;
     glm::vec3 incoming = light.intensity;
@@ -161,7 +161,7 @@ struct Shader::Tracer {
       glm::vec3 to_light = light.position - s.position;
       float d2 = glm::dot(to_light, to_light);
       distance = std::sqrt(d2);
-      if (!(distance > 0.0f)) return glm::vec3(0.0f);
+      if (!(distance > 0.0f)) return {};
       wi = to_light / distance;
       float attenuation = 1.0f / d2;
       if (light.range > 0.0f) {
@@ -177,22 +177,22 @@ struct Shader::Tracer {
       incoming *= attenuation;
     }
     float cos_s = glm::dot(s.shading_normal, wi);
-    if (cos_s <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f || max_component(incoming) <= 0.0f) return glm::vec3(0.0f);
-    glm::vec3 f = eval_brdf(brdf, s.shading_normal, s.wo, wi);
-    if (max_component(f) <= 0.0f) return glm::vec3(0.0f);
+    if (cos_s <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f || max_component(incoming) <= 0.0f) return {};
+    BrdfValue f = eval_brdf_lobes(brdf, s.shading_normal, s.wo, wi);
+    if (max_component(f.sum()) <= 0.0f) return {};
     Ray shadow = light.type == LightType::directional ? spawn(s, wi) : spawn_to(s, light.position, wi, s.offset);
-    if (!visible(s, shadow, i, kNone)) return glm::vec3(0.0f);
-    return f * incoming * cos_s;
+    if (!visible(s, shadow, i, kNone)) return {};
+    return {f.diffuse * incoming * cos_s, f.specular * incoming * cos_s};
   }
 
   // One area-light sample: light by power, triangle by power, point uniformly; u picks the
-  // triangle and the point, u0 the light. Returns reflected radiance / pdf, MIS-weighted
+  // triangle and the point, u0 the light. Returns reflected radiance / pdf per lobe, MIS-weighted
   // against mis.brdf BRDF samples when the path tracer also reaches lights by BRDF sampling.
-  glm::vec3 area_sample(const Surface& s, const BrdfParams& brdf, float u0, glm::vec2 u, MisCounts mis) {
+  BrdfValue area_sample(const Surface& s, const BrdfParams& brdf, float u0, glm::vec2 u, MisCounts mis) {
     const std::vector<AreaLight>& lights = scene.area_lights();
     size_t l = pick(scene.area_light_cdf(), u0);
     const AreaLight& light = lights[l];
-    if (light.triangle_cdf.empty()) return glm::vec3(0.0f);
+    if (light.triangle_cdf.empty()) return {};
     size_t k = pick(light.triangle_cdf, u.x);
     const glm::vec3* v = &light.triangle_vertices[3 * k];
     glm::vec3 b = sample_triangle(u.x, u.y);
@@ -201,31 +201,33 @@ struct Shader::Tracer {
     float double_area = glm::length(cross);
     glm::vec3 to_light = point - s.position;
     float d2 = glm::dot(to_light, to_light);
-    if (!(double_area > 0.0f) || !(d2 > 0.0f)) return glm::vec3(0.0f);
+    if (!(double_area > 0.0f) || !(d2 > 0.0f)) return {};
     float distance = std::sqrt(d2);
     glm::vec3 wi = to_light / distance;
     float cos_light = -glm::dot(cross / double_area, wi);  // emission leaves the front face
     float cos_s = glm::dot(s.shading_normal, wi);
-    if (cos_light <= 0.0f || cos_s <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f) return glm::vec3(0.0f);
+    if (cos_light <= 0.0f || cos_s <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f) return {};
     BrdfValue lobes = eval_brdf_lobes(brdf, s.shading_normal, s.wo, wi);
     const glm::vec3& emission = scene.scene().materials[light.triangle_materials[k]].emission;
-    if (max_component(lobes.sum()) <= 0.0f || max_component(emission) <= 0.0f) return glm::vec3(0.0f);
+    if (max_component(lobes.sum()) <= 0.0f || max_component(emission) <= 0.0f) return {};
     float pdf_area = probability(scene.area_light_cdf(), l) * probability(light.triangle_cdf, k) / (0.5f * double_area);
     float light_offset = settings.ray_offset * std::max(1.0f, max_abs(point));
     Ray shadow = spawn_to(s, point, wi, light_offset);
     uint32_t number = uint32_t(scene.punctual_lights().size() + l);
-    if (!visible(s, shadow, number, light.object)) return glm::vec3(0.0f);
-    glm::vec3 f = lobes.sum();
+    if (!visible(s, shadow, number, light.object)) return {};
+    BrdfValue f = lobes;
     if (mis.brdf > 0 && scene.area_light_mapped(l)) {
       float pdf_light = pdf_area * d2 / cos_light;  // solid angle
       if (mis.specular_only) {
         float pdf_glossy = ggx_reflection_pdf(s.shading_normal, s.wo, wi, brdf.alpha);
-        f = lobes.diffuse + lobes.specular * power_heuristic(float(mis.light) * pdf_light, float(mis.brdf) * pdf_glossy);
+        f.specular *= power_heuristic(float(mis.light) * pdf_light, float(mis.brdf) * pdf_glossy);
       } else {
-        f *= power_heuristic(float(mis.light) * pdf_light, float(mis.brdf) * brdf_pdf(s, brdf, wi));
+        const float weight = power_heuristic(float(mis.light) * pdf_light, float(mis.brdf) * brdf_pdf(s, brdf, wi));
+        f.diffuse *= weight, f.specular *= weight;
       }
     }
-    return f * emission * (cos_s * cos_light / (d2 * pdf_area));
+    const glm::vec3 scale = emission * (cos_s * cos_light / (d2 * pdf_area));
+    return {f.diffuse * scale, f.specular * scale};
   }
 
   // Solid-angle density with which one area-light sample from s picks the point hit on an
@@ -252,21 +254,26 @@ struct Shader::Tracer {
   // Direct lighting: every punctual light once, area lights with n stratified samples from
   // one stream each (primary hits), or from the given stream (deeper hits). brdf_samples > 0:
   // that many BRDF samples will also look for the lights from s (multiple importance sampling).
-  glm::vec3 direct(const Surface& s, int n, uint64_t key, Rng* stream, int brdf_samples = 0, bool specular_only = false) {
+  // Per lobe: the specular lobe's share is what depends on the eye (docs/render.md, "View-dependent shading").
+  BrdfValue direct_lobes(const Surface& s, int n, uint64_t key, Rng* stream, int brdf_samples = 0, bool specular_only = false) {
     BrdfParams brdf = BrdfParams::from(*s.material, settings.specular);
-    glm::vec3 sum(0.0f);
-    for (uint32_t i = 0; i < scene.punctual_lights().size(); ++i) sum += punctual(s, brdf, i);
+    BrdfValue sum;
+    auto add = [](BrdfValue& to, const BrdfValue& v) { to.diffuse += v.diffuse, to.specular += v.specular; };
+    for (uint32_t i = 0; i < scene.punctual_lights().size(); ++i) add(sum, punctual(s, brdf, i));
     if (n > 0 && has_area_lights()) {
-      glm::vec3 area(0.0f);
+      BrdfValue area;
       for (int j = 0; j < n; ++j) {
         Rng own = stream ? Rng(0) : Rng(key, kStreamArea, uint64_t(j));
         Rng& rng = stream ? *stream : own;
         glm::vec2 u = stratified(j, n, rng);
-        area += area_sample(s, brdf, rng.uniform(), u, MisCounts{n, brdf_samples, specular_only});
+        add(area, area_sample(s, brdf, rng.uniform(), u, MisCounts{n, brdf_samples, specular_only}));
       }
-      sum += area / float(n);
+      sum.diffuse += area.diffuse / float(n), sum.specular += area.specular / float(n);
     }
     return sum;
+  }
+  glm::vec3 direct(const Surface& s, int n, uint64_t key, Rng* stream, int brdf_samples = 0, bool specular_only = false) {
+    return direct_lobes(s, n, key, stream, brdf_samples, specular_only).sum();
   }
 
   glm::vec3 emitted(const Surface& s) const { return s.front_face ? s.material->emission : glm::vec3(0.0f); }
@@ -350,14 +357,18 @@ struct Shader::Tracer {
 
   // Indirect light by path tracing: next-event estimation at every vertex, combined with the
   // BRDF-sampled hits on emitters by the power heuristic; Russian roulette.
-  glm::vec3 indirect(const Surface& primary, uint64_t key) {
+  // view_dependent (optional) receives the part that left the primary hit through its specular
+  // lobe (each path's contribution split by the lobes' shares of f at its first direction).
+  glm::vec3 indirect(const Surface& primary, uint64_t key, glm::vec3* view_dependent = nullptr) {
     if (settings.gi_paths <= 0 || settings.gi_max_bounces <= 0) return glm::vec3(0.0f);
-    glm::vec3 sum(0.0f);
+    glm::vec3 sum(0.0f), sum_specular(0.0f);
+    const BrdfParams primary_brdf = BrdfParams::from(*primary.material, settings.specular);
     const bool lights = has_area_lights();
     for (int p = 0; p < settings.gi_paths; ++p) {
       Rng rng(key, kStreamPath, uint64_t(p));
       glm::vec3 path(0.0f);
       glm::vec3 throughput(1.0f);
+      glm::vec3 specular_share(0.0f);
       Surface s = primary;
       // The primary hit's light samples are not MIS-weighted (there are many, and most paths
       // miss small lights): its BRDF samples leave the area lights to them (weight 0).
@@ -366,6 +377,11 @@ struct Shader::Tracer {
         glm::vec3 wi, weight;
         float pdf = 0.0f;
         if (!sample_brdf(s, rng, wi, weight, pdf)) break;
+        if (bounce == 1) {
+          const BrdfValue lobes = eval_brdf_lobes(primary_brdf, s.shading_normal, s.wo, wi);
+          const glm::vec3 total = lobes.sum();
+          for (int c = 0; c < 3; ++c) specular_share[c] = total[c] > 0.0f ? lobes.specular[c] / total[c] : 0.0f;
+        }
         throughput *= weight;
         Ray ray = spawn(s, wi);
         RayHit hit = trace(ray);
@@ -388,7 +404,9 @@ struct Shader::Tracer {
       float luminance = rgb_luminance(path);
       if (settings.gi_path_clamp > 0.0f && luminance > settings.gi_path_clamp) path *= settings.gi_path_clamp / luminance;
       sum += path;
+      sum_specular += path * specular_share;
     }
+    if (view_dependent) *view_dependent += sum_specular / float(settings.gi_paths);
     return sum / float(settings.gi_paths);
   }
 };
@@ -421,13 +439,23 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
     uint64_t key = request_key(settings_.seed, request.x, request.y);
     // Glossy mode: the GGX rays also find the area lights; MIS shares the specular lobe.
     const bool glossy_rays = settings_.kind == ShaderKind::glossy && settings_.specular && settings_.glossy_samples > 0;
-    glm::vec3 color = tracer.emitted(s) + tracer.direct(s, settings_.area_light_samples, key, nullptr,
-                                                        glossy_rays ? settings_.glossy_samples : 0, true);
+    const BrdfValue direct = tracer.direct_lobes(s, settings_.area_light_samples, key, nullptr,
+                                                 glossy_rays ? settings_.glossy_samples : 0, true);
+    glm::vec3 color = tracer.emitted(s) + direct.sum();
+    glm::vec3 view_dependent = direct.specular;
     tracer.triples = nullptr;  // triples come from the primary hit's shadow rays only
-    if (settings_.kind == ShaderKind::glossy) color += tracer.glossy(s, key);
-    if (settings_.kind == ShaderKind::gi) color += tracer.indirect(s, key);
-    for (int c = 0; c < 3; ++c)
+    if (settings_.kind == ShaderKind::glossy) {
+      const glm::vec3 glossy = tracer.glossy(s, key);
+      color += glossy, view_dependent += glossy;
+    }
+    if (settings_.kind == ShaderKind::gi) color += tracer.indirect(s, key, &view_dependent);
+    for (int c = 0; c < 3; ++c) {
       if (!std::isfinite(color[c])) color[c] = 0.0f;
+      if (!std::isfinite(view_dependent[c])) view_dependent[c] = 0.0f;
+      view_dependent[c] = std::clamp(view_dependent[c], 0.0f, color[c]);
+    }
+    result.view_dependent = view_dependent;
+    result.lobe_width = settings_.specular ? BrdfParams::from(*s.material, true).alpha : 0.0f;
     result.hit = true;
     result.object = s.object;
     result.triangle = s.triangle;

@@ -53,6 +53,10 @@ struct ShadeResult {
   glm::vec3 position{0.0f};   // first hit, world space
   glm::vec3 normal{0.0f};     // geometric, world space, facing the ray
   glm::vec3 color{0.0f};      // linear RGB radiance towards the eye
+  // The part of color that depends on the eye's direction (what left the hit through the specular
+  // lobe: direct specular, glossy reflection, gi paths that started in the specular lobe).
+  glm::vec3 view_dependent{0.0f};
+  float lobe_width = 0.0f;    // the specular lobe's width at the hit (GGX alpha, ~radians); 0: none
   uint32_t triple_begin = 0;  // into ShadeBatch::triples
   uint32_t triple_count = 0;
 };

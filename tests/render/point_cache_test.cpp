@@ -228,33 +228,47 @@ TEST(PointCache, StalePointsExpireAfterTheMaximumAgeFasterOffScreen) {
   }
 }
 
-TEST(PointCache, NewResultsOverwriteOldPointsAndChangedShadingAgesTheNeighbourhood) {
+TEST(PointCache, NewResultsRefineOrOverwriteOldPointsAndChangedShadingAgesTheNeighbourhood) {
   const int w = 32, h = 32;
   const ViewFrame frame(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
   PointCache cache(w, h);
   cache.insert(frame, full_plane(frame, 0.0f, 0.5f, 0.5f, glm::vec3(0.5f)), kIdentity);
   cache.project(frame, kIdentity);
   const size_t before = cache.valid_points();
-  auto age_at = [&](int x, int y) { return cache.points()[size_t(cache.image().point[cache.image().index(x, y)])].age; };
-  // The same colour again: replaces the point, no aging around it.
+  auto point_at = [&](int x, int y) -> const CachePoint& { return cache.points()[size_t(cache.image().point[cache.image().index(x, y)])]; };
+  // The same placement (epoch 0): the result refines the point drawn there (running mean, the
+  // point keeps its position), no aging around it.
   ShadeBatch same;
-  same.results.push_back(plane_hit(frame, 10.25f, 10.25f, 0.0f, 0, glm::vec3(0.5f)));
+  same.results.push_back(plane_hit(frame, 10.25f, 10.25f, 0.0f, 0, glm::vec3(0.7f)));
   cache.insert(frame, same, kIdentity);
   EXPECT_EQ(cache.valid_points(), before);
+  EXPECT_EQ(cache.refined(), 1u);
   cache.project(frame, kIdentity);
-  EXPECT_EQ(age_at(10, 10), 1);
-  EXPECT_EQ(age_at(11, 10), 2);
-  EXPECT_EQ(cache.image().region[cache.image().index(10, 10)], 1 + 4 * 1);
-  // A much brighter result: the points in the 5x5 around it are aged.
+  EXPECT_EQ(point_at(10, 10).age, 1);
+  EXPECT_EQ(point_at(10, 10).count, 2);
+  EXPECT_NEAR(point_at(10, 10).color.g, 0.6f, 1e-6f);
+  EXPECT_EQ(point_at(11, 10).age, 2);
+  EXPECT_EQ(cache.image().region[cache.image().index(10, 10)], 2 + 4 * 2);
+  // A much brighter result shaded under a new placement (epoch 1): it replaces the point (its
+  // own position, count 1) and the points in the 5x5 around it are aged.
   ShadeBatch changed;
-  changed.results.push_back(plane_hit(frame, 20.5f, 20.5f, 0.0f, 0, glm::vec3(2.0f)));
-  cache.insert(frame, changed, kIdentity);
+  changed.results.push_back(plane_hit(frame, 20.25f, 20.25f, 0.0f, 0, glm::vec3(2.0f)));
+  cache.insert(frame, changed, kIdentity, 1);
   EXPECT_EQ(cache.valid_points(), before);
   cache.project(frame, kIdentity);
   const int penalty = cache.settings().change_penalty;
-  EXPECT_EQ(age_at(20, 20), 1);
-  EXPECT_EQ(age_at(22, 22), 3 + penalty);
-  EXPECT_EQ(age_at(23, 20), 3);
+  EXPECT_EQ(point_at(20, 20).age, 1);
+  EXPECT_EQ(point_at(20, 20).count, 1);
+  EXPECT_EQ(cache.image().region[cache.image().index(20, 20)], 1 + 4 * 1);
+  EXPECT_EQ(point_at(22, 22).age, 3 + penalty);
+  EXPECT_EQ(point_at(23, 20).age, 3);
+  // The same colour under the same epoch 1 again refines without aging anything.
+  ShadeBatch again;
+  again.results.push_back(plane_hit(frame, 20.75f, 20.75f, 0.0f, 0, glm::vec3(2.0f)));
+  cache.insert(frame, again, kIdentity, 1);
+  cache.project(frame, kIdentity);
+  EXPECT_EQ(point_at(20, 20).count, 2);
+  EXPECT_EQ(point_at(22, 22).age, 4 + penalty);
 }
 
 // With the cloud full, new results overwrite the oldest points, not the next slots in round-robin

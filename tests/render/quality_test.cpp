@@ -105,11 +105,10 @@ TEST_P(Quality, EpiIsCloserToTheReferenceThanTheRenderCacheAndKeepsImproving) {
   for (size_t i = 0; i < e_epi.size(); ++i)
     if (near_shadows[i]) shadow_epi += e_epi[i], shadow_cache += e_cache[i], ++shadow_count;
   if (shadow_count >= 20) {
-    // torus_capsule: EPI is 1.38x the render cache's error at its shadow edges, the cost of cutting
-    // interpolation at a 2-3 pixel wide penumbra (docs/render.md, "Quality"; test below); held
-    // at that level here so it cannot get worse unseen.
-    const double allowed = std::string(GetParam()) == "torus_capsule.gltf" ? 1.45 : 1.0;
-    EXPECT_LT(shadow_epi, allowed * shadow_cache);
+    // Hard shadow edges (punctual lights; soft-shadow edges are off by default, test below). At
+    // rest the render cache averages results at every pixel while the EPI keeps one side's sample
+    // at a pixel an edge crosses (PointCache::set_refine_mask): rooms measures 1.01 here.
+    EXPECT_LT(shadow_epi, 1.05 * shadow_cache);
   }
   std::printf("%s: EPI/render cache error %.3f at %zu shadow edge pixels\n", GetParam(),
               shadow_count ? shadow_epi / shadow_cache : 0.0, shadow_count);
@@ -131,7 +130,7 @@ TEST(QualityTorusCapsule, ShadowEdgeExcessIsTheNarrowPenumbraStrip) {
   auto run = [&](RenderMode mode, bool shadow_edges, RgbImage& image) {
     FrameSettings s;
     s.width = kSize, s.height = kSize, s.sync = true, s.sample_budget = 0.04, s.seed = 2;
-    s.mode = mode, s.shadow_edges = shadow_edges;
+    s.mode = mode, s.shadow_edges = shadow_edges, s.soft_shadow_edges = shadow_edges;  // the paper's behaviour
     auto r = std::make_unique<FrameRenderer>(loaded.scene, loaded.ray_scene, loaded.shader, s);
     for (int f = 0; f < 12; ++f) image = r->render(view.camera);
     return r;
@@ -179,8 +178,11 @@ TEST(QualityTorusCapsule, ShadowEdgeExcessIsTheNarrowPenumbraStrip) {
               with_edges / cache, without / cache, umbral_bias, penumbral_bias);
   EXPECT_GT(umbral_bias, 0.0);     // too bright next to the umbra
   EXPECT_LT(penumbral_bias, 0.0);  // too dark next to the lit floor
-  EXPECT_LT(without, cache);       // the same pixels without shadow edges: better than the render cache
-  EXPECT_GT(with_edges, cache);    // the known defect; when this fails, update docs/render.md and the allowance
+  // The evidence for FrameSettings::soft_shadow_edges = false (docs/render.md, "Soft-shadow
+  // edges"): the same pixels are clearly better without the soft edges, and the paper's behaviour
+  // is worse there than the render cache.
+  EXPECT_LT(without, 0.85 * with_edges);
+  EXPECT_GT(with_edges, cache);
 }
 
 INSTANTIATE_TEST_SUITE_P(BundledScenes, Quality,
