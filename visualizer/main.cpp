@@ -28,7 +28,7 @@ std::pair<int, int> parse_pixel(const std::string& text) {
 int main(int argc, char** argv) {
   using namespace epi::vis;
   CLI::App app("epi-visualizer: the edge-and-point image, stage by stage, for one pixel");
-  std::string source = "checkerboard", pixel, export_dir, screenshot;
+  std::string source = "checkerboard", pixel, export_dir, screenshot, record;
   double density = 0.25, seconds = 1.5;
   uint64_t seed = 1;
   bool list = false;
@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
   app.add_option("--seconds-per-step", seconds, "Animation pace (export)")->check(CLI::Range(0.1, 60.0))->capture_default_str();
   app.add_flag("--list-presets", list, "List the presets and exit");
   app.add_option("--screenshot", screenshot, "Window: after drawing, save the window as PNG and exit (tests)");
+  app.add_option("--record", record, "Window: save the window as PNG when it closes and print the pixel and step (tests)");
   app.add_option("--step", step, "Window: start at this step (1-based)")->check(CLI::Range(1, 100000));
   CLI11_PARSE(app, argc, argv);
 
@@ -69,7 +70,7 @@ int main(int argc, char** argv) {
     }
     WindowOptions options;
     options.source = source, options.density = density, options.seed = seed, options.x = x, options.y = y;
-    options.screenshot = screenshot, options.step = step;
+    options.screenshot = screenshot, options.record = record, options.step = step;
     return run_window(std::move(model), options);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "epi-visualizer: %s\n", e.what());

@@ -6,6 +6,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -40,6 +41,13 @@ struct Session {
     return step;
   }
 };
+
+// Key presses, queued by a GLFW callback: a press and release within one frame (a quick tap on
+// a slow machine) still counts. ImGui's callbacks chain to it.
+std::vector<int> pending_keys;
+void on_key(GLFWwindow*, int key, int, int action, int) {
+  if (action == GLFW_PRESS || action == GLFW_REPEAT) pending_keys.push_back(key);
+}
 
 void upload(GLuint texture, const std::vector<uint8_t>& rgb) {
   glBindTexture(GL_TEXTURE_2D, texture);
@@ -77,14 +85,15 @@ int run_window(Model model, const WindowOptions& options) {
   ImGui::CreateContext();
   ImGui::GetIO().IniFilename = nullptr;
   ImGui::StyleColorsLight();
+  glfwSetKeyCallback(window, on_key);
   ImGui_ImplGlfw_InitForOpenGL(window, true);
   ImGui_ImplOpenGL3_Init("#version 330");
 
   GLuint texture = 0;
   glGenTextures(1, &texture);
   glBindTexture(GL_TEXTURE_2D, texture);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);  // shown 1:1
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
 
   Session session;
   const bool pattern_source = model.source().pattern.has_value();
@@ -124,12 +133,15 @@ int run_window(Model model, const WindowOptions& options) {
       if (session.step + 1 < count) ++session.step, dirty = true;
       else playing = false;
     }
-    // Keyboard: arrows step, space plays.
-    if (!ImGui::GetIO().WantTextInput) {
-      if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_RightArrow)) && session.step + 1 < count) ++session.step, dirty = true;
-      if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_LeftArrow)) && session.step > 0) --session.step, dirty = true;
-      if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Space))) playing = !playing, last_advance = glfwGetTime();
+    // Keyboard: arrows step, space plays, Escape quits.
+    for (const int key : pending_keys) {
+      if (ImGui::GetIO().WantTextInput) break;
+      if (key == GLFW_KEY_RIGHT && session.step + 1 < count) ++session.step, dirty = true;
+      if (key == GLFW_KEY_LEFT && session.step > 0) --session.step, dirty = true;
+      if (key == GLFW_KEY_SPACE) playing = !playing, last_advance = glfwGetTime();
+      if (key == GLFW_KEY_ESCAPE) glfwSetWindowShouldClose(window, 1);
     }
+    pending_keys.clear();
     if (dirty) {
       upload(texture, render_rgb(*session.model, session.trace, session.steps, session.step));
       dirty = false;
@@ -139,6 +151,7 @@ int run_window(Model model, const WindowOptions& options) {
     ImGui::SetNextWindowPos(ImVec2(0, 0));
     ImGui::SetNextWindowSize(ImVec2(float(kCanvasWidth), float(kCanvasHeight)));
     ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+    ImGui::PushStyleVar(ImGuiStyleVar_WindowBorderSize, 0.0f);  // the drawing exactly, pixel for pixel
     ImGui::Begin("canvas", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoBringToFrontOnFocus);
     const ImVec2 origin = ImGui::GetCursorScreenPos();
     ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture)), ImVec2(float(kCanvasWidth), float(kCanvasHeight)));
@@ -153,7 +166,7 @@ int run_window(Model model, const WindowOptions& options) {
       }
     }
     ImGui::End();
-    ImGui::PopStyleVar();
+    ImGui::PopStyleVar(2);
 
     // The controls.
     ImGui::SetNextWindowPos(ImVec2(float(kCanvasWidth), 0));
@@ -201,7 +214,7 @@ int run_window(Model model, const WindowOptions& options) {
     }
     if (!error.empty()) ImGui::TextColored(ImVec4(0.8f, 0.1f, 0.1f, 1), "%s", error.c_str());
     ImGui::Separator();
-    ImGui::TextWrapped("Keys: left/right arrows step, space plays and pauses.");
+    ImGui::TextWrapped("Keys: left/right arrows step, space plays and pauses, Escape quits.");
     ImGui::End();
 
     ImGui::Render();
@@ -214,6 +227,10 @@ int run_window(Model model, const WindowOptions& options) {
     if (!options.screenshot.empty() && ++frames == 3) {
       save_screenshot(options.screenshot, fb_w, fb_h);
       glfwSetWindowShouldClose(window, 1);
+    }
+    if (!options.record.empty() && glfwWindowShouldClose(window)) {
+      save_screenshot(options.record, fb_w, fb_h);
+      std::printf("window closed at pixel (%d, %d), step %d of %d\n", px, py, session.step + 1, count);
     }
     glfwSwapBuffers(window);
   }

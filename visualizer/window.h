@@ -15,6 +15,7 @@ struct WindowOptions {
   uint64_t seed = 1;
   int x = 0, y = 0;
   std::string screenshot;  // non-empty: save the window after the first frames and exit
+  std::string record;      // non-empty: save the window as it closes, and print where it stood (tests)
   int step = 0;            // 1-based start step, 0: the first
 };
 

@@ -4,6 +4,8 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <vector>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -11,6 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cairo.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -132,7 +135,7 @@ TEST(VisualizerCli, WindowDrawsUnderXvfb) {
   if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
   const fs::path shot = temp_dir() / "window.png";
   fs::remove(shot);
-  const RunResult r = run("xvfb-run -a -s '-screen 0 1600x900x24' " + kVisualizer + " checkerboard --step 30 --screenshot " + shot.string());
+  const RunResult r = run("timeout 180 xvfb-run -a -n 170 -s '-screen 0 1600x900x24' " + kVisualizer + " checkerboard --step 30 --screenshot " + shot.string());
   ASSERT_EQ(r.exit_code, 0) << r.out;
   const std::string png = read_file(shot);
   ASSERT_GT(png.size(), 24u);
@@ -143,6 +146,55 @@ TEST(VisualizerCli, WindowDrawsUnderXvfb) {
   EXPECT_EQ(be32(16), 1590u);  // the drawing (1280) and the control panel (310)
   EXPECT_EQ(be32(20), 800u);
   EXPECT_GT(png.size(), 30000u);  // a drawing, not a blank window
+}
+
+// Decodes a PNG (Cairo) into 0xRRGGBB per pixel.
+std::vector<uint32_t> png_pixels(const fs::path& file, int& width, int& height) {
+  cairo_surface_t* s = cairo_image_surface_create_from_png(file.c_str());
+  std::vector<uint32_t> out;
+  width = height = 0;
+  if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS) {
+    width = cairo_image_surface_get_width(s), height = cairo_image_surface_get_height(s);
+    const int stride = cairo_image_surface_get_stride(s);
+    const unsigned char* data = cairo_image_surface_get_data(s);
+    for (int y = 0; y < height; ++y)
+      for (int x = 0; x < width; ++x) {
+        uint32_t p;
+        std::memcpy(&p, data + size_t(y) * size_t(stride) + size_t(x) * 4, 4);
+        out.push_back(p & 0xffffffu);
+      }
+  }
+  cairo_surface_destroy(s);
+  return out;
+}
+
+TEST(VisualizerCli, WindowFollowsAClickAndTheArrowKeys) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1 && command -v xdotool >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run or xdotool not installed";
+  const fs::path dir = temp_dir(), shot = dir / "record.png", expected = dir / "expected";
+  fs::remove(shot);
+  fs::remove_all(expected);
+  // Step 1 shows the whole 20x20 checkerboard at 35.5 px per pixel from (40, 70): the click at
+  // (120, 150) lands on pixel (2, 2); two right arrows then go to step 3; Escape closes.
+  const std::string script =
+      kVisualizer + " checkerboard --record " + shot.string() + " & p=$!; "
+      "for i in $(seq 120); do xdotool search --name epi-visualizer >/dev/null && break; sleep 0.5; done; sleep 2; "
+      "xdotool mousemove 120 150 click 1; sleep 1; xdotool key Right; sleep 0.5; xdotool key Right; sleep 1; "
+      "xdotool key Escape; wait $p";
+  const RunResult r = run("timeout 180 xvfb-run -a -n 180 -s '-screen 0 1600x900x24' sh -c '" + script + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.out.find("window closed at pixel (2, 2), step 3 of"), std::string::npos) << r.out;
+  // The window shows exactly the drawing the export makes for that pixel and step.
+  ASSERT_EQ(run(kVisualizer + " checkerboard --pixel 2,2 --export " + expected.string()).exit_code, 0);
+  int w = 0, h = 0, ew = 0, eh = 0;
+  const std::vector<uint32_t> window = png_pixels(shot, w, h), drawing = png_pixels(expected / "step_003.png", ew, eh);
+  ASSERT_EQ(w, 1590);
+  ASSERT_EQ(ew, 1280);
+  ASSERT_EQ(h, eh);
+  size_t differ = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < ew; ++x) differ += window[size_t(y) * size_t(w) + size_t(x)] != drawing[size_t(y) * size_t(ew) + size_t(x)];
+  EXPECT_EQ(differ, 0u) << differ << " pixels differ";
 }
 
 }  // namespace
