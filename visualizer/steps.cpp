@@ -315,7 +315,10 @@ class Builder {
       if (t_.kind == CellKind::simple) shade_regions(s.view, kRegionA, kRegionB);
       else s.view.marks.push_back(pixel_mark(t_.x, t_.y, t_.kind == CellKind::empty ? kEmptyFill : kComplexFill));
       s.values["class"] = kind_name(t_.kind);
-      if (t_.kind == CellKind::simple) s.values["area of A"] = num(t_.area_a), s.values["area of B"] = num(1 - t_.area_a);
+      if (t_.kind == CellKind::simple) {
+        s.values["colours"] = "blue: A, pink: B";
+        s.values["area of A"] = num(t_.area_a), s.values["area of B"] = num(1 - t_.area_a);
+      }
     }
     {
       std::string caption;
@@ -339,6 +342,7 @@ class Builder {
           s.view.marks.push_back(mk);
         }
       }
+      if (t_.kind == CellKind::simple) s.values["colours"] = "blue: A, pink: B, hatched grey: edge-ambiguous";
       s.values["sample"] = t_.has_sample ? "region " + std::to_string(t_.sample_region) : std::string("none");
       if (t_.has_sample) s.values["side"] = t_.sample_side < 0 ? "whole pixel" : t_.sample_side == 0 ? "A" : t_.sample_side == 1 ? "B" : "ambiguous";
       s.values["usable"] = t_.usable;
@@ -359,6 +363,7 @@ class Builder {
         const Rgba primary{0.2, 0.45, 0.95, 0.45}, secondary{0.95, 0.55, 0.7, 0.35};
         shade_regions(s.view, t_.primary_is_b ? secondary : primary, t_.primary_is_b ? primary : secondary);
       }
+      if (t_.kind == CellKind::simple) s.values["colours"] = "blue: primary, pink: secondary";
       s.values["primary"] = t_.kind == CellKind::simple ? (t_.primary_is_b ? "B" : "A") : "whole pixel";
       s.values["type (4 bits)"] = std::to_string(t_.type) + " = " + type_name(t_.type);
     }
@@ -442,6 +447,7 @@ class Builder {
       s.view.marks.push_back(target);
       for (int k = 0; k < r.preds; ++k)
         s.view.arrows.push_back({t_.x + r.pred_dx[k] + 0.5, t_.y + r.pred_dy[k] + 0.5, t_.x + r.dx + 0.5, t_.y + r.dy + 0.5, kArrow});
+      s.values["colours"] = "yellow: primary reachable from the centre, grey: not";
       s.values["offset"] = offset(r.dx, r.dy);
       s.values["type"] = type_name(r.type);
       for (int k = 0; k < r.preds; ++k) {
