@@ -26,7 +26,7 @@ nlohmann::ordered_json trace_json(const Model& model, const PixelTrace& trace, c
 void export_steps(const Model& model, const PixelTrace& trace, const std::vector<Step>& steps, const std::string& dir,
                   double seconds_per_step = 1.5);
 
-// Writes an RGB8 image (width x height) as PNG with Cairo.
+// Writes an RGB8 image (width x height) as PNG (libpng).
 void write_png(const std::string& file, const std::vector<uint8_t>& rgb, int width, int height);
 
 }  // namespace epi::vis

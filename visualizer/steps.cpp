@@ -505,6 +505,7 @@ class Builder {
         s.view.marks.push_back(pixel_mark(t_.x + c.dx, t_.y + c.dy, kWeight, {0.1, 0.5, 0.2, 1}, 3, "w " + num(c.weight, 3)));
         list.push_back(offset(c.dx, c.dy) + " w " + num(c.weight, 4));
       }
+      s.values["colours"] = "green: samples used (weight w), grey: unreachable, crossed red: edge-ambiguous";
       s.values["samples used"] = list;
       s.values["total weight W"] = num(t_.total_weight, 4);
     }
