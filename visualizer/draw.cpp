@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -154,15 +155,27 @@ class Painter {
         set_linear(cr_, p.color.data());
         cairo_fill(cr_);
       }
-    } else {
+    } else {  // the EPI result as an image, each pixel a square (an embedded PNG in SVG)
       const RgbImage& img = m_.epi_result().image;
-      for (int y = v_.py0; y <= v_.py1; ++y)
-        for (int x = v_.px0; x <= v_.px1; ++x) {
-          if (x < 0 || y < 0 || x >= m_.width() || y >= m_.height()) continue;
-          set_linear(cr_, img.at(x, y));
-          cairo_rectangle(cr_, cx(x), cy(y), v_.cell + 0.5, v_.cell + 0.5);
-          cairo_fill(cr_);
+      cairo_surface_t* s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, img.width, img.height);
+      cairo_surface_flush(s);
+      unsigned char* data = cairo_image_surface_get_data(s);
+      const int stride = cairo_image_surface_get_stride(s);
+      for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+          const float* c = img.at(x, y);
+          const uint32_t p = uint32_t(encode_srgb8(c[0])) << 16 | uint32_t(encode_srgb8(c[1])) << 8 | encode_srgb8(c[2]);
+          std::memcpy(data + size_t(y) * size_t(stride) + size_t(x) * 4, &p, 4);
         }
+      cairo_surface_mark_dirty(s);
+      cairo_save(cr_);
+      cairo_translate(cr_, cx(0), cy(0));
+      cairo_scale(cr_, v_.cell, v_.cell);
+      cairo_set_source_surface(cr_, s, 0, 0);
+      cairo_pattern_set_filter(cairo_get_source(cr_), CAIRO_FILTER_NEAREST);
+      cairo_paint(cr_);
+      cairo_restore(cr_);
+      cairo_surface_destroy(s);
     }
     cairo_pop_group_to_source(cr_);
     cairo_paint_with_alpha(cr_, alpha);
@@ -239,6 +252,7 @@ class Painter {
 
   void grid() {
     const bool whole = s_.view.whole_image;
+    if (v_.cell < 4) return;  // a large image seen whole: lines would only grey it
     cairo_set_source_rgba(cr_, 0.35, 0.35, 0.35, whole ? 0.25 : 0.7);
     cairo_set_line_width(cr_, whole ? 0.5 : 1.0);
     for (int x = v_.px0; x <= v_.px1 + 1; ++x) cairo_move_to(cr_, cx(x), cy(v_.py0)), cairo_line_to(cr_, cx(x), cy(v_.py1 + 1));

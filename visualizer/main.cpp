@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   int step = 0;
   app.add_option("source", source, "A preset name, a PATTERN.json (epi reconstruct's format) or an EPI snapshot (epi render --save-epi)")
       ->capture_default_str();
-  app.add_option("--pixel", pixel, "The pixel to follow, X,Y (default: the preset's, else the image centre)");
+  app.add_option("--pixel", pixel, "The pixel to follow, X,Y (default: the preset's, else the edge pixel nearest the image centre)");
   app.add_option("--density", density, "Fraction of pixels that get one sample (patterns)")->check(CLI::Range(0.0, 1.0))->capture_default_str();
   app.add_option("--seed", seed, "Sampling seed (patterns)")->capture_default_str();
   app.add_option("--export", export_dir, "Write every step as PNG and SVG, trace.json and animation.gif into this new folder; no window");
@@ -53,7 +53,20 @@ int main(int argc, char** argv) {
     }
     Model model(load_source(source, density, seed));
     int x = model.width() / 2, y = model.height() / 2;
-    if (const Preset* p = find_preset(source)) x = p->pixel_x, y = p->pixel_y;
+    if (const Preset* p = find_preset(source)) {
+      x = p->pixel_x, y = p->pixel_y;
+    } else {  // the simple (else complex) pixel nearest the centre: something to see
+      long best = -1;
+      for (int kind : {2, 1})
+        if (best < 0)
+          for (int py = 0; py < model.height(); ++py)
+            for (int px = 0; px < model.width(); ++px) {
+              const int type = model.type_at(px, py);
+              if ((kind == 2) != (type >= 2) || type == 0) continue;
+              const long d = long(px - model.width() / 2) * (px - model.width() / 2) + long(py - model.height() / 2) * (py - model.height() / 2);
+              if (best < 0 || d < best) best = d, x = px, y = py;
+            }
+    }
     if (!pixel.empty()) {
       std::tie(x, y) = parse_pixel(pixel);
       if (x < 0 || y < 0 || x >= model.width() || y >= model.height())
