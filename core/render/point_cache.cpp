@@ -94,20 +94,20 @@ glm::vec3 PointCache::world_position(const CachePoint& p, const ViewFrame& frame
   return glm::vec3(object_to_world[p.object] * glm::vec4(p.local, 1.0f));
 }
 
-int PointCache::view_age(const CachePoint& p, const glm::vec3& to_eye) const {
-  if (p.lobe_width <= 0.0f || p.object == kNone) return 0;
+float PointCache::view_share(const CachePoint& p) {
   const float total = luminance(p.color);
-  const float share = total > 0.0f ? std::clamp(luminance(p.view_dependent) / total, 0.0f, 1.0f) : 0.0f;
-  if (share <= 0.0f) return 0;
+  return total > 0.0f ? std::clamp(luminance(p.view_dependent) / total, 0.0f, 1.0f) : 0.0f;
+}
+
+uint8_t PointCache::view_staleness(const CachePoint& p, const glm::vec3& to_eye) const {
+  if (p.lobe_width <= 0.0f || p.object == kNone || view_share(p) <= 0.0f) return 0;
   const float length = glm::length(to_eye);
   if (!(length > 0.0f)) return 0;
   const float turned = std::acos(std::clamp(glm::dot(to_eye / length, unpack_unit(p.view)), -1.0f, 1.0f));
-  const float staleness = turned / std::max(p.lobe_width, kMinLobeWidth);
-  if (staleness > settings_.view_drop && share >= 0.5f) return -1;
-  return int(std::lround(std::min(settings_.view_aging * share * staleness, 4096.0f)));
+  return uint8_t(std::lround(std::min(16.0f * turned / std::max(p.lobe_width, kMinLobeWidth), 255.0f)));
 }
 
-ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm::mat4> object_to_world) {
+ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull) {
   const int w = image_.width, h = image_.height;
   if (frame.view().width != w || frame.view().height != h)
     throw std::invalid_argument("point cache: view size differs from the cache's image size");
@@ -117,7 +117,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
 
   // Aging and projection with a z-buffer (points in parallel; the minimum key wins).
   struct Counts {
-    size_t projected = 0, expired = 0, view_dropped = 0;
+    size_t projected = 0, expired = 0;
     std::array<uint32_t, kAgeBins> ages{};  // eviction order: age, off-screen points in the top bin
   };
   const Counts counts = tbb::parallel_reduce(
@@ -128,13 +128,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
           if (!p.valid) continue;
           p.age = uint16_t(std::min(p.age + 1, 0xffff));
           const glm::vec3 world = world_position(p, frame, object_to_world);
-          if (const int extra = view_age(p, frame.eye() - world); extra < 0) {
-            p.valid = false, p.image_id = -1;
-            ++c.expired, ++c.view_dropped;
-            continue;
-          } else {
-            p.age = uint16_t(std::min(p.age + extra, 0xffff));
-          }
+          p.staleness = view_staleness(p, frame.eye() - world);
           const Projection proj = frame.project(world);
           const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
                               proj.pixel.x < float(w) && proj.pixel.y < float(h);
@@ -147,7 +141,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
             ++c.expired;
             continue;
           }
-          ++c.ages[inside ? std::min<size_t>(p.age, kAgeBins - 2) : kAgeBins - 1];
+          ++c.ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
           if (!inside) continue;
           const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
           const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
@@ -160,7 +154,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         return c;
       },
       [](Counts a, const Counts& b) {
-        a.projected += b.projected, a.expired += b.expired, a.view_dropped += b.view_dropped;
+        a.projected += b.projected, a.expired += b.expired;
         for (size_t k = 0; k < kAgeBins; ++k) a.ages[k] += b.ages[k];
         return a;
       });
@@ -180,42 +174,8 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     }
   });
 
-  // Depth cull: remove a point deeper than (1 + offset) x the mean depth of the points in its 3x3.
-  const float cull_scale = 1.0f + settings_.depth_cull_offset;
-  const auto cull_counts = tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, h, 8), std::pair<size_t, size_t>{0, 0},
-      [&](const tbb::blocked_range<int>& rows, std::pair<size_t, size_t> c) {
-        for (int y = rows.begin(); y != rows.end(); ++y)
-          for (int x = 0; x < w; ++x) {
-            const size_t i = image_.index(x, y);
-            image_.point[i] = winners_[i];
-            if (winners_[i] < 0) continue;
-            double sum = 0.0;
-            int n = 0;
-            for (int dy = -1; dy <= 1; ++dy)
-              for (int dx = -1; dx <= 1; ++dx) {
-                const int qx = x + dx, qy = y + dy;
-                if (qx < 0 || qy < 0 || qx >= w || qy >= h) continue;
-                const size_t q = image_.index(qx, qy);
-                if (winners_[q] < 0) continue;
-                sum += image_.depth[q];
-                ++n;
-              }
-            if (image_.depth[i] > float(sum / n) * cull_scale) {
-              image_.point[i] = -1;
-              ++c.second;
-            } else {
-              ++c.first;
-            }
-          }
-        return c;
-      },
-      [](std::pair<size_t, size_t> a, const std::pair<size_t, size_t>& b) {
-        return std::pair<size_t, size_t>{a.first + b.first, a.second + b.second};
-      });
-  // The culled pixels' depth stays +inf for later stages.
-  for (size_t i = 0; i < winners_.size(); ++i)
-    if (winners_[i] >= 0 && image_.point[i] < 0) image_.depth[i] = std::numeric_limits<float>::infinity();
+  std::copy(winners_.begin(), winners_.end(), image_.point.begin());
+  const size_t culled = depth_cull ? this->depth_cull({}) : 0;
 
   // Free the slots of expired points.
   if (counts.expired > 0) {
@@ -223,11 +183,58 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     for (size_t i = points_.size(); i-- > 0;)
       if (!points_[i].valid) free_slots_.push_back(uint32_t(i));
   }
-  view_dropped_ += counts.view_dropped;
   age_histogram_.assign(counts.ages.begin(), counts.ages.end());
+  for (const int32_t q : image_.point)
+    if (q >= 0) --age_histogram_[kAgeBins - 1], ++age_histogram_[std::min<size_t>(points_[size_t(q)].age, kAgeBins - 2)];
   last_frame_.emplace(frame);
   last_transforms_.assign(object_to_world.begin(), object_to_world.end());
-  return {counts.projected, cull_counts.first, cull_counts.second, counts.expired};
+  const size_t drawn = size_t(std::count_if(image_.point.begin(), image_.point.end(), [](int32_t q) { return q >= 0; }));
+  return {counts.projected, drawn, culled, 0, counts.expired};
+}
+
+bool PointCache::drawn(size_t slot) const {
+  const int32_t pixel = points_[slot].image_id;
+  return pixel >= 0 && image_.point[size_t(pixel)] == int32_t(slot);
+}
+
+size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
+  const int w = image_.width, h = image_.height;
+  const bool edges = edge_pixels.size() == image_.point.size();
+  // Near a silhouette or border the far side is visible: the mean would remove it.
+  auto protected_pixel = [&](int x, int y) {
+    if (!edges) return false;
+    for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
+      for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx)
+        if (edge_pixels[image_.index(qx, qy)] & kDepthEdge) return true;
+    return false;
+  };
+  const float cull_scale = 1.0f + settings_.depth_cull_offset;
+  std::vector<uint8_t> cull(image_.point.size(), 0);
+  const size_t culled = tbb::parallel_reduce(
+      tbb::blocked_range<int>(0, h, 8), size_t(0),
+      [&](const tbb::blocked_range<int>& rows, size_t count) {
+        for (int y = rows.begin(); y != rows.end(); ++y)
+          for (int x = 0; x < w; ++x) {
+            const size_t i = image_.index(x, y);
+            if (image_.point[i] < 0 || protected_pixel(x, y)) continue;
+            double sum = 0.0;
+            int n = 0;
+            for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
+              for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx) {
+                const size_t q = image_.index(qx, qy);
+                if (image_.point[q] < 0) continue;
+                sum += image_.depth[q];
+                ++n;
+              }
+            if (image_.depth[i] > float(sum / n) * cull_scale) cull[i] = 1, ++count;
+          }
+        return count;
+      },
+      std::plus<size_t>());
+  // Removed after the pass (the means see the z-buffer's winners); the depth of a culled pixel is +inf.
+  for (size_t i = 0; i < cull.size(); ++i)
+    if (cull[i]) image_.point[i] = -1, image_.depth[i] = std::numeric_limits<float>::infinity();
+  return culled;
 }
 
 size_t PointCache::take_slot() {
@@ -244,7 +251,7 @@ size_t PointCache::take_slot() {
   const size_t n = points_.size();
   auto evict = [&](size_t slot) {  // the histogram follows, so the next insert's threshold is right
     const CachePoint& p = points_[slot];
-    const size_t bin = p.image_id < 0 ? age_histogram_.size() - 1 : std::min<size_t>(p.age, age_histogram_.size() - 2);
+    const size_t bin = drawn(slot) ? std::min<size_t>(p.age, age_histogram_.size() - 2) : age_histogram_.size() - 1;
     if (p.valid && bin < age_histogram_.size() && age_histogram_[bin] > 0) --age_histogram_[bin];
     return slot;
   };
@@ -255,7 +262,7 @@ size_t PointCache::take_slot() {
     const CachePoint& p = points_[slot];
     if (!p.valid) return slot;
     if (p.age == 0) continue;
-    if (p.image_id < 0 || p.age >= evict_age_) return evict(slot);
+    if (!drawn(slot) || p.age >= evict_age_) return evict(slot);
   }
   const size_t slot = cursor_;
   cursor_ = cursor_ + 1 == n ? 0 : cursor_ + 1;
@@ -446,7 +453,7 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
                                         std::span<const uint8_t> edge_pixels) {
   const int w = image_.width, h = image_.height, radius = std::max(1, settings_.occlusion_radius);
   if (edge_pixels.size() != image_.point.size()) throw std::invalid_argument("point cache: edge mask size differs from the image");
-  auto barrier = [&](size_t i) { return (edge_pixels[i] & kGeometricEdge) != 0; };
+  auto barrier = [&](size_t i) { return (edge_pixels[i] & (kDepthEdge | kSharpEdge)) != 0; };
   const float scale = 1.0f + settings_.occlusion_margin;
   // Normals back to world space: the inverse transpose of each object's matrix.
   std::vector<glm::mat3> normal_to_world(object_to_world.size());
@@ -500,6 +507,14 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   return removed;
 }
 
+uint32_t PointCache::display_srgb(const CachePoint& p) const {
+  const float staleness = float(p.staleness) / 16.0f;
+  if (staleness <= settings_.view_fade_start) return p.srgb;
+  const float fade = std::clamp((staleness - settings_.view_fade_start) /
+                                    std::max(settings_.view_fade_end - settings_.view_fade_start, 1e-3f), 0.0f, 1.0f);
+  return pack_srgb(p.color - p.view_dependent * fade);
+}
+
 int PointCache::priority_age(const CachePoint& p) const {
   // The EPI's age byte drives sampling priority (age / 16): points whose mean is still uncertain
   // ask for samples sooner. Relative standard error of the mean luminance, from the spread of the
@@ -510,7 +525,8 @@ int PointCache::priority_age(const CachePoint& p) const {
     error = std::sqrt(std::max(p.luminance_m2, 0.0f) / (n * (n - 1.0f))) / (luminance(p.color) + 0.02f);
   }
   if (p.object == kNone || settings_.single_sample_error <= 0.0f) return p.age;  // the background is exact
-  return int(std::lround(float(p.age) * std::clamp(error / settings_.single_sample_error, 0.25f, 4.0f)));
+  const float view = settings_.view_priority * view_share(p) * float(p.staleness) / 16.0f;
+  return int(std::lround(std::min(float(p.age) * std::clamp(error / settings_.single_sample_error, 0.25f, 4.0f) + view, 1e4f)));
 }
 
 void PointCache::fill_epi(EpiImage& epi) const {
@@ -526,7 +542,7 @@ void PointCache::fill_epi(EpiImage& epi) const {
       }
       const CachePoint& point = points_[size_t(p)];
       epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
-      epi.color[i] = point.srgb | uint32_t(std::min<int>(priority_age(point), 255)) << bits::kAgeShift;
+      epi.color[i] = display_srgb(point) | uint32_t(std::min<int>(priority_age(point), 255)) << bits::kAgeShift;
     }
   });
 }

@@ -35,11 +35,13 @@ struct PointCacheSettings {
   // surface point, shaded under the same placement (epoch) and, for view-dependent shading, from
   // about the same direction, is averaged into it instead of replacing it.
   bool refine = true;
-  // View-dependent aging: per frame a point gains view_aging x (its view-dependent share) x
-  // (angle between the eye's direction now and at shading / the specular lobe's width) in age, and
-  // is dropped past view_drop lobe widths (when at least half of its colour is view-dependent).
-  float view_aging = 16.0f;
-  float view_drop = 3.0f;
+  // View-dependent shading (the Shading Cache's aging, measured by the turn of the view): a
+  // point's staleness is the angle between the eye's direction now and at shading, in widths of
+  // its specular lobe. It raises the point's sampling priority by view_priority x (view-dependent
+  // share) x staleness (in age units), and the view-dependent part of its colour fades out between
+  // view_fade_start and view_fade_end lobe widths (a highlight seen from elsewhere is not shown).
+  float view_priority = 16.0f;
+  float view_fade_start = 1.0f, view_fade_end = 3.0f;
   // Sampling priority (the age the EPI sees): the age times the relative standard error of the
   // point's mean luminance over single_sample_error, clamped to [1/4, 4]; a single result counts as
   // that error (factor 1), so refined, converged points ask later and noisy ones sooner.
@@ -47,7 +49,9 @@ struct PointCacheSettings {
 };
 
 // Per-pixel edge flags (the renderer's rasterized edges of the last frame).
-inline constexpr uint8_t kGeometricEdge = 1, kShadowEdge = 2;
+// kDepthEdge: silhouette or border (the visible depth may jump); kSharpEdge: a crease (the
+// surface turns); kShadowEdge: umbral, penumbral, shadow.
+inline constexpr uint8_t kDepthEdge = 1, kShadowEdge = 2, kSharpEdge = 4;
 
 struct CachePoint {
   glm::vec3 local{0.0f};  // object space; for background (object == kNone) a world direction
@@ -61,6 +65,7 @@ struct CachePoint {
   float lobe_width = 0.0f;    // specular lobe width at the point (radians); 0: none
   uint16_t count = 1;         // results averaged into color
   uint16_t epoch = 0;         // placement (objects, lights) the results were shaded under
+  uint8_t staleness = 0;      // view turned since shading, in 1/16 lobe widths (last projection; capped)
   int32_t image_id = -1;  // pixel index of the last projection, -1: none
   uint16_t age = 0;
   bool valid = false;
@@ -88,8 +93,15 @@ class PointCache {
   PointCache(int width, int height, const PointCacheSettings& settings = {});
 
   // Ages every point, projects the cloud into `frame` with a z-buffer (points of object o placed
-  // by object_to_world[o]), then runs the depth cull. Fills image().
-  ProjectionCounts project(const ViewFrame& frame, std::span<const glm::mat4> object_to_world);
+  // by object_to_world[o]), then runs depth_cull() (unless depth_cull is false: the EPI runs it
+  // once its edges are known). Fills image().
+  ProjectionCounts project(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull = true);
+
+  // The render cache's depth cull: removes from image() a drawn point deeper than (1 + offset) x
+  // the mean depth of the drawn points in its 3x3, except (given edge_pixels of the image's size)
+  // within a pixel of a silhouette or border (kDepthEdge), whose far side is visible. Returns the
+  // number removed.
+  size_t depth_cull(std::span<const uint8_t> edge_pixels = {});
 
   // Integrates shading results made for `shot` (its camera gives misses their direction) and traced
   // with objects placed by object_to_world (the hit positions are converted to object space with
@@ -105,7 +117,7 @@ class PointCache {
 
   // Epi mode, after project(): removes from image() the drawn points that lie behind the tangent
   // plane of a nearer drawn point close by, unless a geometric edge (silhouette, border, sharp:
-  // `edge_pixels` has kGeometricEdge where such an edge crosses) separates the two. The
+  // `edge_pixels` has kDepthEdge or kSharpEdge where such an edge crosses) separates the two. The
   // EPI's edges say where depth may jump; elsewhere the visible surface is continuous, so a
   // far point next to a near one shows through a sparsely sampled nearer surface (the dots
   // of docs/render.md, "Hidden points"). Returns the number removed.
@@ -128,17 +140,20 @@ class PointCache {
   size_t valid_points() const;
   size_t hidden_removed() const { return hidden_removed_; }  // points whose slot a ray showed hidden
   size_t refined() const { return refined_; }                // results averaged into a point
-  size_t view_dropped() const { return view_dropped_; }      // points dropped as the view turned
   const PointCacheSettings& settings() const { return settings_; }
   float background_depth() const { return background_depth_; }
 
  private:
-  // Extra age for a point whose view-dependent shading was made from another direction (to_eye:
-  // from the point to the eye now); -1: drop it.
-  int view_age(const CachePoint& p, const glm::vec3& to_eye) const;
+  // How far the view has turned at p since it was shaded (to_eye: from the point to the eye now),
+  // in 1/16 lobe widths; 0 for shading that does not depend on the view.
+  uint8_t view_staleness(const CachePoint& p, const glm::vec3& to_eye) const;
+  // The share of p's colour that depends on the view.
+  static float view_share(const CachePoint& p);
   bool refines(const CachePoint& cached, const CachePoint& result) const;
   int priority_age(const CachePoint& p) const;
+  uint32_t display_srgb(const CachePoint& p) const;  // srgb, less the view-dependent part as it goes stale
   size_t take_slot();
+  bool drawn(size_t slot) const;  // the point is the one drawn at its pixel in the last projection
   void choose_evict_age(size_t needed);
   int32_t find_hidden(const ViewFrame& shot, const ShadeResult& r, const glm::vec3& last_world,
                       std::span<const glm::mat4> object_to_world) const;
@@ -148,8 +163,8 @@ class PointCache {
   std::vector<uint32_t> free_slots_;
   size_t cursor_ = 0;
   int evict_age_ = 1;                   // take_slot's sweep takes points at least this old
-  std::vector<uint32_t> age_histogram_;  // of the last projection less the points evicted since (off-screen last)
-  size_t hidden_removed_ = 0, refined_ = 0, view_dropped_ = 0;
+  std::vector<uint32_t> age_histogram_;  // of the last projection less the points evicted since (not drawn last)
+  size_t hidden_removed_ = 0, refined_ = 0;
   PointImage image_;
   std::vector<uint64_t> zbuffer_;  // (depth bits << 32) | point index, min wins
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull

@@ -29,16 +29,17 @@ bool same_camera(const Camera& a, const Camera& b) {
   return a.eye == b.eye && a.target == b.target && a.up == b.up && a.yfov_degrees == b.yfov_degrees;
 }
 
-// Pixels crossed by the edge pieces, sampled every 1/8 pixel along each: kGeometricEdge where a
-// silhouette, sharp or border edge crosses (the visible surface's depth may jump there), kShadowEdge
-// where an umbral, penumbral or shadow edge does.
+// Pixels crossed by the edge pieces, sampled every 1/8 pixel along each: kDepthEdge where a
+// silhouette or border crosses, kSharpEdge where a sharp edge does, kShadowEdge where an umbral,
+// penumbral or shadow edge does.
 void mark_edge_pixels(std::span<const Segment> segments, std::span<const edges::EdgeKind> kinds, int w, int h,
                       std::vector<uint8_t>& mask) {
   mask.assign(size_t(w) * size_t(h), 0);
   for (size_t k = 0; k < segments.size(); ++k) {
-    const bool geometric =
-        kinds[k] == edges::EdgeKind::silhouette || kinds[k] == edges::EdgeKind::sharp || kinds[k] == edges::EdgeKind::border;
-    const uint8_t bit = geometric ? kGeometricEdge : kShadowEdge;
+    const edges::EdgeKind kind = kinds[k];
+    const uint8_t bit = kind == edges::EdgeKind::silhouette || kind == edges::EdgeKind::border ? kDepthEdge
+                        : kind == edges::EdgeKind::sharp                                       ? kSharpEdge
+                                                                                               : kShadowEdge;
     const Segment& s = segments[k];
     const int steps = 1 + int(8.0 * std::hypot(double(s.x1) - double(s.x0), double(s.y1) - double(s.y0)));
     for (int j = 0; j <= steps; ++j) {
@@ -300,7 +301,10 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
     async_->take_results(batch);
   }
   integrate(batch);
-  stats_.points = cache_.project(frame, transforms_);
+  // Epi mode: the depth cull waits for the edges (it must spare the far side of silhouettes), and
+  // the edge-aware occlusion test follows it (docs/render.md, "Hidden points").
+  const bool edge_aware = settings_.mode == RenderMode::epi && settings_.occlusion_test && finder_ && settings_.view_edges;
+  stats_.points = cache_.project(frame, transforms_, !edge_aware);
   stats_.ms.points = ms_since(t) - sampling_ms - stats_.ms.shade;
 
   // Edges (epi mode), then the points they show hidden.
@@ -313,9 +317,10 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   t = Clock::now();
   if (settings_.mode == RenderMode::epi) {
     mark_edge_pixels(segments_, segment_kinds_, settings_.width, settings_.height, edge_pixels_);
-    if (settings_.occlusion_test && finder_ && settings_.view_edges) {
+    if (edge_aware) {
+      stats_.points.culled = cache_.depth_cull(edge_pixels_);
       stats_.points.occluded = cache_.cull_behind_surfaces(frame, transforms_, edge_pixels_);
-      stats_.points.drawn -= stats_.points.occluded;
+      stats_.points.drawn -= stats_.points.culled + stats_.points.occluded;
     }
     // A pixel an edge crosses keeps one side's sample: averaging results from both sides there
     // would blend what anti-aliasing blends again.

@@ -34,6 +34,7 @@ ShadeResult plane_hit(const ViewFrame& frame, float x, float y, float plane_z, u
   ShadeResult r;
   r.x = x, r.y = y, r.hit = t > 0.0f, r.object = object;
   r.position = ray.origin + t * ray.direction;
+  r.normal = glm::vec3(0.0f, 0.0f, ray.direction.z < 0.0f ? 1.0f : -1.0f);
   (void)object_to_world;
   r.color = color;
   return r;
@@ -269,6 +270,84 @@ TEST(PointCache, NewResultsRefineOrOverwriteOldPointsAndChangedShadingAgesTheNei
   cache.project(frame, kIdentity);
   EXPECT_EQ(point_at(20, 20).count, 2);
   EXPECT_EQ(point_at(22, 22).age, 4 + penalty);
+}
+
+// View-dependent shading: a point whose colour is mostly specular, shaded from one eye, gets a
+// staleness of (view turned) / (lobe width), asks for a sample the sooner the more the view turned,
+// and shows less of its view-dependent part past view_fade_start widths (none past view_fade_end);
+// a diffuse point seen from the same turned eye is untouched.
+TEST(PointCache, ViewDependentPointsGoStaleWithTheTurnOfTheViewAndDiffuseOnesDoNot) {
+  const int w = 16, h = 16;
+  const ViewFrame shot(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  ShadeBatch batch;
+  ShadeResult glossy = plane_hit(shot, 4.5f, 8.5f, 0.0f, 0, glm::vec3(1.0f));
+  glossy.view_dependent = glm::vec3(0.9f), glossy.lobe_width = 0.05f;
+  ShadeResult diffuse = plane_hit(shot, 11.5f, 8.5f, 0.0f, 0, glm::vec3(1.0f));
+  diffuse.lobe_width = 0.05f;  // a specular lobe, but nothing came through it
+  batch.results = {glossy, diffuse};
+  const PointCacheSettings settings;
+  int last_priority = -1;
+  for (const float turn : {0.0f, 0.04f, 0.075f, 0.1f, 0.2f}) {  // radians about the target, ~turn at the points
+    PointCache cache(w, h, settings);
+    cache.insert(shot, batch, kIdentity);
+    const ViewFrame now(view_of(camera_at({10.0f * std::sin(turn), 0, 10.0f * std::cos(turn)}, {0, 0, 0}), w, h));
+    cache.project(now, kIdentity);
+    const CachePoint& g = cache.points()[0];
+    const CachePoint& d = cache.points()[1];
+    ASSERT_TRUE(g.valid && d.valid);
+    EXPECT_EQ(g.age, 1);
+    EXPECT_EQ(d.staleness, 0);
+    const glm::vec3 eye_now = now.eye(), eye_then = shot.eye();
+    const float staleness =
+        std::acos(std::clamp(glm::dot(glm::normalize(eye_now - glossy.position), glm::normalize(eye_then - glossy.position)), -1.0f, 1.0f)) / 0.05f;
+    EXPECT_NEAR(float(g.staleness) / 16.0f, staleness, 0.05f) << turn;
+    EpiImage epi(w, h);
+    cache.fill_epi(epi);
+    const uint32_t gc = epi.color[size_t(g.image_id)], dc = epi.color[size_t(d.image_id)];
+    EXPECT_EQ(sample_age(dc), 1);
+    EXPECT_GT(sample_age(gc), last_priority) << turn;  // rises with the turn
+    last_priority = sample_age(gc);
+    const float fade = std::clamp((staleness - settings.view_fade_start) / (settings.view_fade_end - settings.view_fade_start), 0.0f, 1.0f);
+    const float shown = srgb8_to_linear()[gc & 0xff];
+    EXPECT_NEAR(shown, 1.0f - 0.9f * fade, 0.05f) << turn;  // staleness in 1/16 widths, colour in 8 bits
+    EXPECT_EQ(dc & 0xffffffu, encode_srgb8(1.0f) * 0x010101u);
+  }
+}
+
+// Convergence at rest: results on the same point under one placement are averaged; the priority
+// age the EPI sees falls for a point whose results agree and rises for one whose results scatter.
+TEST(PointCache, RefinedPointsAverageTheirResultsAndAskForSamplesByTheirUncertainty) {
+  const int w = 8, h = 8;
+  const ViewFrame frame(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  PointCache cache(w, h);
+  cache.insert(frame, full_plane(frame, 0.0f, 0.5f, 0.5f, glm::vec3(0.5f)), kIdentity);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> noise(0.0f, 1.0f);
+  double sum = 0.5;
+  for (int k = 0; k < 50; ++k) {
+    cache.project(frame, kIdentity);
+    ShadeBatch batch;
+    batch.results.push_back(plane_hit(frame, 2.3f, 2.6f, 0.0f, 0, glm::vec3(0.5f)));  // agrees
+    const float v = noise(rng);
+    sum += v;
+    batch.results.push_back(plane_hit(frame, 5.4f, 5.7f, 0.0f, 0, glm::vec3(v)));  // scatters
+    cache.insert(frame, batch, kIdentity);
+  }
+  for (int k = 0; k < 20; ++k) cache.project(frame, kIdentity);  // both now 20 frames old
+  const CachePoint& calm = cache.points()[size_t(cache.image().point[cache.image().index(2, 2)])];
+  const CachePoint& noisy = cache.points()[size_t(cache.image().point[cache.image().index(5, 5)])];
+  EXPECT_EQ(calm.count, 51);
+  EXPECT_EQ(noisy.count, 51);
+  EXPECT_NEAR(noisy.color.r, sum / 51.0, 1e-4);
+  EXPECT_EQ(calm.age, 20);
+  EpiImage epi(w, h);
+  cache.fill_epi(epi);
+  const int calm_age = sample_age(epi.color[size_t(cache.image().index(2, 2))]);
+  const int noisy_age = sample_age(epi.color[size_t(cache.image().index(5, 5))]);
+  const int single_age = sample_age(epi.color[size_t(cache.image().index(0, 0))]);  // one result, older
+  EXPECT_EQ(calm_age, 5);  // 20 x 1/4: converged
+  EXPECT_GT(noisy_age, calm_age);
+  EXPECT_EQ(single_age, cache.points()[size_t(cache.image().point[0])].age);  // factor 1
 }
 
 // With the cloud full, new results overwrite the oldest points, not the next slots in round-robin
