@@ -44,7 +44,11 @@ int main(int argc, char** argv) {
   app.add_option("--screenshot", screenshot, "Window: after drawing, save the window as PNG and exit (tests)");
   app.add_option("--record", record, "Window: save the window as PNG when it closes and print the pixel and step (tests)");
   app.add_option("--step", step, "Window: start at this step (1-based)")->check(CLI::Range(1, 100000));
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {  // --help prints and exits 0; a bad command line exits 2, as `epi` does
+    return app.exit(e) == 0 ? 0 : 2;
+  }
 
   try {
     if (list) {

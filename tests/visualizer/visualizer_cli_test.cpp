@@ -124,6 +124,12 @@ TEST(VisualizerCli, BadInputGetsOneLineAndWritesNothing) {
     EXPECT_FALSE(fs::exists(out)) << c.args;
     EXPECT_FALSE(fs::exists(out.string() + ".partial")) << c.args;
   }
+  // A command line that does not parse: exit code 2, as `epi`.
+  for (const char* args : {" wedges --density 2", " wedges --bogus"}) {
+    const RunResult bad = run(kVisualizer + args + " --export " + out.string());
+    EXPECT_EQ(bad.exit_code, 2) << args << ": " << bad.out;
+    EXPECT_FALSE(fs::exists(out));
+  }
   // No display and no --export: one line that says what to do.
   const RunResult r = run("env -u DISPLAY " + kVisualizer + " wedges");
   EXPECT_NE(r.exit_code, 0);
