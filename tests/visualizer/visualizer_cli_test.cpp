@@ -203,4 +203,38 @@ TEST(VisualizerCli, WindowFollowsAClickAndTheArrowKeys) {
   EXPECT_EQ(differ, 0u) << differ << " pixels differ";
 }
 
+// Runs the window on `preset` under xvfb-run, performs the xdotool `actions` once it is up, then
+// presses Escape; returns the step it closed at (0 when it did not say).
+int window_step_after(const std::string& preset, const std::string& actions, int server) {
+  const fs::path shot = temp_dir() / ("record-" + std::to_string(server) + ".png");
+  const std::string script = kVisualizer + " " + preset + " --record " + shot.string() + " & p=$!; " +
+                             "for i in $(seq 120); do xdotool search --name epi-visualizer >/dev/null && break; sleep 0.5; done; "
+                             "sleep 2; " + actions + "; sleep 1; xdotool key Escape; wait $p";
+  const RunResult r = run("timeout 180 xvfb-run -a -n " + std::to_string(server) + " -s '-screen 0 1600x900x24' sh -c '" + script + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.out;
+  int step = 0, count = 0;
+  const size_t at = r.out.find("step ");
+  if (at != std::string::npos) std::sscanf(r.out.c_str() + at, "step %d of %d", &step, &count);
+  return step;
+}
+
+TEST(VisualizerCli, WindowPlaysAndJumpsToAStage) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1 && command -v xdotool >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run or xdotool not installed";
+  // Space plays at 1 step per second until space pauses.
+  EXPECT_GE(window_step_after("wedges", "xdotool mousemove 800 400 key space; sleep 4; xdotool key space", 190), 2);
+  // The "3 Classification" button of the panel jumps to the stage's first step.
+  const fs::path out = temp_dir() / "wedges-steps";
+  fs::remove_all(out);
+  ASSERT_EQ(run(kVisualizer + " wedges --export " + out.string()).exit_code, 0);
+  const nlohmann::json j = nlohmann::json::parse(read_file(out / "trace.json"));
+  int first = 0;
+  for (const auto& s : j["steps"])
+    if (s["stage"] == 3) {
+      first = s["index"];
+      break;
+    }
+  EXPECT_EQ(window_step_after("wedges", "xdotool mousemove 1326 169 click 1", 200), first);
+}
+
 }  // namespace
