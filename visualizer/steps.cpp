@@ -418,7 +418,10 @@ class Builder {
       std::string caption;
       auto pred_name = [&](int k) { return r.pred_dx[k] == 0 && r.pred_dy[k] == 0 ? std::string("the centre") : offset(r.pred_dx[k], r.pred_dy[k]); };
       const bool complex_here = r.type == kTypeComplex;
-      if (complex_here)
+      if (t_.types[12] == kTypeComplex && r.preds == 1 && r.pred_dx[0] == 0 && r.pred_dy[0] == 0)
+        caption = "The centre is complex, so the table gives side neighbour " + offset(r.dx, r.dy) +
+                  " no reachability (0000): a complex pixel reaches nothing and takes the simple estimate (stage 5).";
+      else if (complex_here)
         caption = "Neighbour " + offset(r.dx, r.dy) + " is " + (t_.inside[(r.dy + 2) * 5 + r.dx + 2] ? "complex" : "outside the image") +
                   ": complex pixels are unreachable and stop propagation (mask 0000).";
       else if (r.preds == 1 && r.pred_dx[0] == 0 && r.pred_dy[0] == 0)
