@@ -29,7 +29,7 @@ struct PointCacheSettings {
   // Edge-aware occlusion (epi mode, cull_behind_surfaces): a drawn point lying more than this
   // (relative depth) behind the tangent plane of a nearer drawn point within `occlusion_radius`
   // pixels, with no geometric edge between them, is hidden.
-  float occlusion_margin = 0.05f;
+  float occlusion_margin = 0.02f;
   int occlusion_radius = 2;
   // Progressive refinement (docs/render.md, "Convergence at rest"): a result landing on the same
   // surface point, shaded under the same placement (epoch) and, for view-dependent shading, from

@@ -10,6 +10,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include "epi/interpolate.h"
+#include "render/hole_fill.h"
 #include "render/sampling.h"
 
 namespace epi::render {
@@ -345,6 +347,21 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   stats_.ms.classify = rt.classify, stats_.ms.reachability = rt.reachability, stats_.ms.interpolate = rt.interpolate;
   stats_.ms.antialias = rt.antialias, stats_.ms.complex = rt.complex;
   stats_.pixels = reconstruction_.counts;
+
+  // Epi mode: pixels that reached no sample (black, top priority) filled from their own region.
+  if (settings_.mode == RenderMode::epi && settings_.fill_holes) {
+    const auto tf = Clock::now();
+    const size_t n = reconstruction_.priority.size();
+    holes_.assign(n, 0);
+    barrier_.assign(n, 0);
+    const float* rgb = reconstruction_.image.pixels.data();
+    for (size_t i = 0; i < n; ++i) {
+      holes_[i] = reconstruction_.priority[i] >= kMaxPriority && rgb[3 * i] == 0.0f && rgb[3 * i + 1] == 0.0f && rgb[3 * i + 2] == 0.0f;
+      barrier_[i] = (edge_pixels_[i] & (kDepthEdge | kSharpEdge)) != 0;
+    }
+    stats_.holes_filled = fill_holes(reconstruction_.image, holes_, barrier_);
+    stats_.ms.interpolate += ms_since(tf);
+  }
 
   // Async: the next requests from this frame's priority; stale ones are dropped.
   if (async_) {

@@ -49,6 +49,7 @@ struct FrameSettings {
   // cutting interpolation at a penumbra a few pixels wide costs more than it gains (docs/render.md,
   // "Soft-shadow edges"); hard shadow edges of punctual lights are kept either way.
   bool soft_shadow_edges = false;
+  bool fill_holes = true;       // epi mode: pixels that reach no sample get their region's nearest colours (hole_fill.h)
   bool occlusion_culling = true;
   // Points behind the tangent plane of a nearer point with no geometric edge between them are not
   // drawn (PointCache::cull_behind_surfaces; needs view_edges).
@@ -77,6 +78,7 @@ struct FrameStats {
   size_t samples = 0;    // shading results integrated into the cache this frame
   size_t requested = 0;  // requests made this frame (incl. predicted)
   size_t predicted = 0;  // of which for predicted gaps
+  size_t holes_filled = 0;  // pixels that reached no sample, filled by fill_holes
   // Pixels per new sample this frame; +infinity when no sample was integrated (not 0: 0 would
   // read as "densest possible").
   double sparseness = std::numeric_limits<double>::infinity();
@@ -162,7 +164,8 @@ class FrameRenderer {
   std::vector<Segment> segments_;
   std::vector<edges::EdgeKind> segment_kinds_;
   std::vector<float> filtered_depth_;
-  std::vector<uint8_t> edge_pixels_;  // pixels crossed by geometric edges (occlusion test)
+  std::vector<uint8_t> edge_pixels_;  // pixels crossed by edges, by kind (point_cache.h)
+  std::vector<uint8_t> holes_, barrier_;  // hole filling
   FrameStats stats_;
   int frame_ = 0;
 };

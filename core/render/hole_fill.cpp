@@ -1,0 +1,72 @@
+#include "render/hole_fill.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace epi::render {
+
+size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<const uint8_t> barrier) {
+  const int w = image.width, h = image.height;
+  const size_t n = size_t(w) * size_t(h);
+  if (holes.size() != n || barrier.size() != n) throw std::invalid_argument("fill_holes: mask size differs from the image");
+  // state: 0 filled (a source), 1 hole, 2 hole on a barrier (filled last).
+  std::vector<uint8_t> state(n);
+  std::vector<uint32_t> front;
+  for (size_t i = 0; i < n; ++i) state[i] = holes[i] ? (barrier[i] ? 2 : 1) : 0;
+  auto fill_from_neighbours = [&](int x, int y, bool through_barriers) {
+    float sum[3] = {0, 0, 0};
+    int count = 0;
+    for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
+      for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx) {
+        const size_t q = size_t(qy) * size_t(w) + size_t(qx);
+        if (state[q] != 0 || (!through_barriers && barrier[q])) continue;
+        for (int c = 0; c < 3; ++c) sum[c] += image.pixels[q * 3 + size_t(c)];
+        ++count;
+      }
+    if (count == 0) return false;
+    const size_t i = size_t(y) * size_t(w) + size_t(x);
+    for (int c = 0; c < 3; ++c) image.pixels[i * 3 + size_t(c)] = sum[c] / float(count);
+    return true;
+  };
+  auto has_source_neighbour = [&](int x, int y) {
+    for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
+      for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx) {
+        const size_t q = size_t(qy) * size_t(w) + size_t(qx);
+        if (state[q] == 0 && !barrier[q]) return true;
+      }
+    return false;
+  };
+  // The first ring: holes off barriers next to a filled pixel off a barrier.
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      if (state[size_t(y) * size_t(w) + size_t(x)] == 1 && has_source_neighbour(x, y)) front.push_back(uint32_t(y * w + x));
+  size_t filled = 0;
+  std::vector<uint32_t> next;
+  while (!front.empty()) {
+    // Each ring is coloured from the rings before it only, then becomes a source.
+    std::vector<uint32_t> ring;
+    for (const uint32_t i : front)
+      if (state[i] == 1 && fill_from_neighbours(int(i % uint32_t(w)), int(i / uint32_t(w)), false)) ring.push_back(i);
+    for (const uint32_t i : ring) state[i] = 0;
+    filled += ring.size();
+    next.clear();
+    for (const uint32_t i : ring) {
+      const int x = int(i % uint32_t(w)), y = int(i / uint32_t(w));
+      for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
+        for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx) {
+          const size_t q = size_t(qy) * size_t(w) + size_t(qx);
+          if (state[q] == 1) state[q] = 3, next.push_back(uint32_t(q));  // 3: queued
+        }
+    }
+    for (const uint32_t i : next) state[i] = 1;
+    front.swap(next);
+  }
+  // Holes on barriers: from any filled neighbour.
+  std::vector<uint32_t> last;
+  for (size_t i = 0; i < n; ++i)
+    if (state[i] == 2 && fill_from_neighbours(int(i % size_t(w)), int(i / size_t(w)), true)) last.push_back(uint32_t(i));
+  for (const uint32_t i : last) state[i] = 0;
+  return filled + last.size();
+}
+
+}  // namespace epi::render

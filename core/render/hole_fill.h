@@ -1,0 +1,21 @@
+// Holes become blur, not black (docs/render.md, "Holes"): after fast motion some pixels reach no
+// sample (the filters leave them black at top priority). They are filled from the nearest filled
+// pixels of their own region: a breadth-first fill that never passes a geometric edge.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "image/image.h"
+
+namespace epi::render {
+
+// Fills the pixels flagged in `holes` (non-zero) of `image`, ring by ring outwards from the
+// filled pixels: a hole pixel takes the mean of its already filled 8-neighbours. Pixels flagged in
+// `barrier` (non-zero; geometric edges) neither pass colour on nor take it until every other hole
+// is filled; they then take the mean of their filled neighbours. Holes no filled pixel reaches
+// stay as they are. Returns the number of pixels filled.
+size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<const uint8_t> barrier);
+
+}  // namespace epi::render
