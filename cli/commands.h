@@ -58,6 +58,7 @@ struct RenderOptions {
   std::string camera_path;     // file of camera keys per frame; empty: the scene's path, else still
   std::string frames_out;      // printf-style pattern for every frame's image, e.g. out/f%04d.png
   std::string save_epi;        // mode epi: the last frame's EPI snapshot (io/snapshot), empty: none
+  bool soft_shadow_edges = false;  // epi mode: the paper's umbral and penumbral edges (render.md, "Soft-shadow edges")
 };
 int run_render(const RenderOptions& options);
 // The shader settings a render asks for (kind, seed and sample counts).

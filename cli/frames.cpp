@@ -136,6 +136,7 @@ int run_render_frames(const RenderOptions& options) {
   settings.sample_budget = options.sample_budget;
   settings.sync = options.sync;
   settings.seed = options.seed;
+  settings.soft_shadow_edges = options.soft_shadow_edges;
   render::FrameRenderer renderer(scene, ray_scene, shader, settings);
   const double build_ms = ms_since(stage);
 
@@ -143,7 +144,7 @@ int run_render_frames(const RenderOptions& options) {
   struct Series {
     std::vector<double> find_edges, rasterize_edges, points, classify, reachability, interpolate, antialias, complex,
         sampling, shade, total, empty, simple, complex_pixels, silhouette, sharp, border, shadow, culled, samples, requested,
-        predicted;
+        predicted, points_culled, points_occluded, holes_filled;
   } series;
   stage = Clock::now();
   double write_frames_ms = 0.0;
@@ -173,6 +174,8 @@ int run_render_frames(const RenderOptions& options) {
       series.culled.push_back(double(s.edges.culled));
       series.samples.push_back(double(s.samples)), series.requested.push_back(double(s.requested));
       series.predicted.push_back(double(s.predicted));
+      series.points_culled.push_back(double(s.points.culled)), series.points_occluded.push_back(double(s.points.occluded));
+      series.holes_filled.push_back(double(s.holes_filled));
       if (!options.frames_out.empty()) {
         const auto t = Clock::now();
         outputs.add_image(frame_file(options.frames_out, f), *image, options.exposure);
@@ -264,6 +267,11 @@ int run_render_frames(const RenderOptions& options) {
         {"samples_per_frame", samples_per_frame},
         {"requests_per_frame", mean(series.requested)},
         {"predicted_per_frame", mean(series.predicted)},
+        {"points_per_frame",
+         {{"depth_culled", mean(series.points_culled)},
+          {"occluded", mean(series.points_occluded)},
+          {"holes_filled", mean(series.holes_filled)}}},
+        {"refined", renderer.cache().refined()},
         {"sparseness", sparseness ? nlohmann::json(*sparseness) : nlohmann::json(nullptr)},
         {"samples", total_samples},
         {"rays", rays},

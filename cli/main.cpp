@@ -150,6 +150,9 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--gi-max-bounces", render.shading.gi_max_bounces, "Longest indirect path, in bounces (gi shader)")
       ->check(CLI::Range(0, 64))
       ->capture_default_str();
+  render_cmd->add_flag("--soft-shadow-edges", render.soft_shadow_edges,
+                       "epi mode: also cut interpolation at area lights' umbral and penumbral edges, as the paper does "
+                       "(off by default: it costs quality where a penumbra is a few pixels wide; docs/render.md)");
   render_cmd->add_flag("--quiet", render.quiet, "No progress bar, no repair report");
   render_cmd->add_option("--subdiv-level", render.subdiv_level, "Override the subdivision level")->check(CLI::Range(0, 8));
   add_camera_options(*render_cmd, render.camera);

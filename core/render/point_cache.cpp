@@ -478,9 +478,8 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
             const size_t i = image_.index(x, y);
             if (image_.point[i] < 0 || barrier(i)) continue;
             const float depth = image_.depth[i];
-            const Ray ray = frame.ray(float(x) + (float(image_.region[i] & 3) + 0.5f) * 0.25f,
-                                      float(y) + (float(image_.region[i] >> 2) + 0.5f) * 0.25f);
-            const float ray_depth = glm::dot(ray.direction, frame.forward());  // depth per unit along the ray
+            Ray ray;
+            float ray_depth = 0.0f;  // depth per unit along the ray; the ray is made when first needed
             bool is_hidden = false;
             for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius) && !is_hidden; ++qy)
               for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius) && !is_hidden; ++qx) {
@@ -488,6 +487,11 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
                 if (image_.point[q] < 0 || !(image_.depth[q] * scale < depth)) continue;
                 const CachePoint& near = points_[size_t(image_.point[q])];
                 if (near.object == kNone || near.object >= object_to_world.size()) continue;
+                if (ray_depth == 0.0f) {
+                  ray = frame.ray(float(x) + (float(image_.region[i] & 3) + 0.5f) * 0.25f,
+                                  float(y) + (float(image_.region[i] >> 2) + 0.5f) * 0.25f);
+                  ray_depth = glm::dot(ray.direction, frame.forward());
+                }
                 // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
                 const glm::vec3 n = glm::normalize(normal_to_world[near.object] * unpack_unit(near.normal));
                 const glm::vec3 at = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));

@@ -1,0 +1,155 @@
+// The image a user sees while moving (issue 9, docs/render.md "Quality in motion"): each bundled
+// scene along its camera path (sync, fixed seed), its last frame against a converged reference of
+// that view, beside the same frame count with the camera held at that view and beside the render
+// cache along the path. Display-space RMSE and the share of pixels off by more than 0.1 and 0.2
+// (max over channels), and where the large errors come from, pixel by pixel:
+//   hidden    the drawn point is not the nearest surface along its own ray
+//   colour    the drawn point is the right surface, its colour is off (stale or noisy shading)
+//   near      no point drawn; a hidden point is drawn within 2 pixels
+//   other     no point drawn, none hidden near (reconstruction, holes)
+// Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--out DIR] SCENE.gltf...
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "image_io.h"
+#include "load_scene.h"
+#include "render/camera_path.h"
+#include "render/renderer.h"
+#include "shade/render_image.h"
+
+namespace {
+
+using namespace epi;
+using namespace epi::render;
+
+double display(float linear) {
+  const double v = std::clamp(double(linear), 0.0, 1.0);
+  return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+}
+
+struct Run {
+  double rmse = 0, over01 = 0, over02 = 0;
+  size_t hidden = 0, colour = 0, near = 0, other = 0;
+};
+
+struct Options {
+  int size = 256, frames = 60, spp = 64;
+  double budget = 0.02;
+  std::string out;
+};
+
+Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Options& o, bool still, RenderMode mode,
+        const RgbImage& reference, const std::string& image_file) {
+  FrameSettings s;
+  s.mode = mode, s.width = o.size, s.height = o.size, s.sync = true, s.sample_budget = o.budget, s.seed = 5;
+  FrameRenderer renderer(scene, ray_scene, shader, s);
+  const CameraPath path = scene_camera_path(scene, o.frames);
+  const Camera last = path.camera_at(o.frames - 1);
+  RgbImage image;
+  for (int f = 0; f < o.frames; ++f) image = renderer.render(still ? last : path.camera_at(f));
+  if (!image_file.empty()) write_image(image_file, image);
+
+  View view;
+  view.camera = last, view.width = o.size, view.height = o.size;
+  const ViewFrame frame(view);
+  std::vector<glm::mat4> transforms(scene.objects.size());
+  for (size_t k = 0; k < transforms.size(); ++k) transforms[k] = ray_scene.object_to_world(uint32_t(k));
+  const PointCache& cache = renderer.cache();
+  const PointImage& drawn = cache.image();
+  auto hidden_at = [&](size_t i) {
+    if (drawn.point[i] < 0) return false;
+    const CachePoint& p = cache.points()[size_t(drawn.point[i])];
+    const Projection proj = frame.project(cache.world_position(p, frame, transforms));
+    const Ray ray = frame.ray(proj.pixel.x, proj.pixel.y);
+    const RayHit hit = ray_scene.intersect(ray);
+    if (p.object == kNone) return hit.hit;
+    return hit.hit && proj.depth > frame.project(ray.origin + hit.t * ray.direction).depth * 1.02f + 1e-3f;
+  };
+  Run r;
+  double squared = 0.0;
+  const int n = o.size;
+  for (int y = 0; y < n; ++y)
+    for (int x = 0; x < n; ++x) {
+      const size_t i = size_t(y) * size_t(n) + size_t(x);
+      double worst = 0.0;
+      for (int c = 0; c < 3; ++c) {
+        const double d = display(image.pixels[i * 3 + size_t(c)]) - display(reference.pixels[i * 3 + size_t(c)]);
+        squared += d * d, worst = std::max(worst, std::abs(d));
+      }
+      r.over01 += worst > 0.1, r.over02 += worst > 0.2;
+      if (worst <= 0.1) continue;
+      if (drawn.point[i] >= 0) {
+        (hidden_at(i) ? r.hidden : r.colour) += 1;
+        continue;
+      }
+      bool near = false;
+      for (int qy = std::max(0, y - 2); qy <= std::min(n - 1, y + 2) && !near; ++qy)
+        for (int qx = std::max(0, x - 2); qx <= std::min(n - 1, x + 2) && !near; ++qx)
+          near = hidden_at(size_t(qy) * size_t(n) + size_t(qx));
+      (near ? r.near : r.other) += 1;
+    }
+  const double pixels = double(n) * double(n);
+  r.rmse = std::sqrt(squared / (3.0 * pixels)), r.over01 *= 100.0 / pixels, r.over02 *= 100.0 / pixels;
+  return r;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  std::vector<std::string> scenes;
+  for (int k = 1; k < argc; ++k) {
+    const std::string a = argv[k];
+    auto value = [&] {
+      if (k + 1 >= argc) {
+        std::fprintf(stderr, "render_motion_quality: %s needs a value\n", a.c_str());
+        std::exit(2);
+      }
+      return std::string(argv[++k]);
+    };
+    if (a == "--size") o.size = std::stoi(value());
+    else if (a == "--frames") o.frames = std::stoi(value());
+    else if (a == "--budget") o.budget = std::stod(value());
+    else if (a == "--spp") o.spp = std::stoi(value());
+    else if (a == "--out") o.out = value();
+    else scenes.push_back(a);
+  }
+  if (scenes.empty() || o.size < 8 || o.frames < 1 || !(o.budget > 0.0 && o.budget <= 1.0)) {
+    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--out DIR] SCENE.gltf...\n");
+    return 2;
+  }
+  if (!o.out.empty()) std::filesystem::create_directories(o.out);
+  std::printf("%dx%d, %d frames along the path, sync, budget %.3f, direct shader, reference %d spp\n", o.size, o.size,
+              o.frames, o.budget, o.spp);
+  std::printf("| scene | run | RMSE | > 0.1 | > 0.2 | hidden | colour | near hidden | other |\n|---|---|---|---|---|---|---|---|---|\n");
+  for (const std::string& file : scenes) {
+    const Scene scene = load_scene(file);
+    RayScene ray_scene(scene);
+    const Shader shader(ray_scene, ShaderSettings{});
+    View view;
+    view.camera = scene_camera_path(scene, o.frames).camera_at(o.frames - 1), view.width = o.size, view.height = o.size;
+    const RgbImage reference = render_image(shader, view, o.spp);
+    const std::string name = std::filesystem::path(file).stem().string();
+    if (!o.out.empty()) write_image(o.out + "/" + name + "_reference.png", reference);
+    const struct {
+      const char* label;
+      bool still;
+      RenderMode mode;
+    } runs[] = {{"epi, path", false, RenderMode::epi}, {"epi, still", true, RenderMode::epi},
+                {"render cache, path", false, RenderMode::rendercache}};
+    for (const auto& k : runs) {
+      const std::string image_file = o.out.empty() ? "" : o.out + "/" + name + "_" + (k.mode == RenderMode::epi ? "epi" : "rc") +
+                                                               (k.still ? "_still" : "_path") + ".png";
+      const Run r = run(scene, ray_scene, shader, o, k.still, k.mode, reference, image_file);
+      std::printf("| %s | %s | %.4f | %.2f %% | %.2f %% | %zu | %zu | %zu | %zu |\n", name.c_str(), k.label, r.rmse, r.over01,
+                  r.over02, r.hidden, r.colour, r.near, r.other);
+      std::fflush(stdout);
+    }
+  }
+  return 0;
+}
