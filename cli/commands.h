@@ -59,12 +59,24 @@ struct RenderOptions {
   std::string frames_out;      // printf-style pattern for every frame's image, e.g. out/f%04d.png
   std::string save_epi;        // mode epi: the last frame's EPI snapshot (io/snapshot), empty: none
   bool soft_shadow_edges = false;  // epi mode: the paper's umbral and penumbral edges (render.md, "Soft-shadow edges")
+  std::string reference;       // image to compare the written frame with (all modes); empty: none
+  bool speedup = true;         // epi, rendercache: time a 1-spp ray trace of the last view
 };
 int run_render(const RenderOptions& options);
 // The shader settings a render asks for (kind, seed and sample counts).
 ShaderSettings shader_settings(const RenderOptions& options);
 // The frame loop behind `render --mode epi|rendercache` (cli/frames.cpp).
 int run_render_frames(const RenderOptions& options);
+
+// `epi compare IMAGE REFERENCE`: the quality metrics of io/image/image_compare.h.
+struct CompareOptions {
+  std::string image, reference;
+  std::string json;        // FILE, empty: none
+  std::string diff;        // difference image to write, empty: none
+  float diff_scale = 4.0f;
+  float exposure = 0.0f;   // stops, for linear images on their way to display space
+};
+int run_compare(const CompareOptions& options);
 
 // The 2D harness of core/epi (issue 3).
 struct ReconstructOptions {

@@ -19,6 +19,7 @@
 #include "output.h"
 #include "render/camera_path.h"
 #include "render/renderer.h"
+#include "shade/render_image.h"
 #include "snapshot.h"
 
 namespace epi::cli {
@@ -96,7 +97,10 @@ int run_render_frames(const RenderOptions& options) {
     outputs_named.push_back(options.save_epi);
   }
   check_distinct_outputs(outputs_named);
+  check_not_input(outputs_named, options.reference);
   const ShaderSettings shader_settings_ = shader_settings(options);
+  std::optional<ReferenceImage> reference;  // read and its size checked before work
+  if (!options.reference.empty()) reference = read_reference(options.reference, options.width, options.height);
   if (!(options.sample_budget > 0.0 && options.sample_budget <= 1.0))
     throw std::invalid_argument("--sample-budget " + std::to_string(options.sample_budget) + " is not in (0, 1]");
 
@@ -137,7 +141,8 @@ int run_render_frames(const RenderOptions& options) {
   settings.sync = options.sync;
   settings.seed = options.seed;
   settings.soft_shadow_edges = options.soft_shadow_edges;
-  render::FrameRenderer renderer(scene, ray_scene, shader, settings);
+  std::optional<render::FrameRenderer> renderer;  // reset before the ray trace that measures the speed-up
+  renderer.emplace(scene, ray_scene, shader, settings);
   const double build_ms = ms_since(stage);
 
   // The loop.
@@ -159,8 +164,8 @@ int run_render_frames(const RenderOptions& options) {
       const std::vector<glm::mat4> transforms =
           path.moves_objects() ? path.object_transforms_at(scene, f) : std::vector<glm::mat4>{};
       const std::vector<glm::vec3> lights = path.moves_lights() ? path.light_positions_at(scene, f) : std::vector<glm::vec3>{};
-      image = &renderer.render(camera, transforms, lights);
-      const render::FrameStats& s = renderer.stats();
+      image = &renderer->render(camera, transforms, lights);
+      const render::FrameStats& s = renderer->stats();
       series.find_edges.push_back(s.ms.find_edges), series.rasterize_edges.push_back(s.ms.rasterize_edges);
       series.points.push_back(s.ms.points), series.classify.push_back(s.ms.classify);
       series.reachability.push_back(s.ms.reachability), series.interpolate.push_back(s.ms.interpolate);
@@ -201,6 +206,28 @@ int run_render_frames(const RenderOptions& options) {
   const double write_ms = ms_since(stage) + write_frames_ms;
   const double total_ms = ms_since(start);
 
+  // The written frame against the reference, in display space at the output's exposure.
+  std::optional<ImageDifference> difference;
+  if (reference)
+    difference = compare_images(*image, ImageEncoding::linear, reference->image, reference->encoding, options.exposure);
+  // The speed-up: a 1-spp ray trace of the last view with the same shader, once the frame loop
+  // (and its asynchronous shading) has stopped, against the median frame time.
+  image = nullptr;
+  const size_t refined = renderer->cache().refined();
+  renderer.reset();
+  std::optional<double> raytrace_ms;
+  std::optional<ImageDifference> raytrace_difference;  // the ray trace's own error, for comparison
+  if (options.speedup) {
+    View last;
+    last.camera = path.camera_at(options.frames - 1), last.width = options.width, last.height = options.height;
+    const auto t = Clock::now();
+    const RgbImage traced = render_image(shader, last, 1);
+    raytrace_ms = ms_since(t);
+    if (reference)
+      raytrace_difference =
+          compare_images(traced, ImageEncoding::linear, reference->image, reference->encoding, options.exposure);
+  }
+
   const double frame_ms = median(series.total);
   const double samples_per_frame = mean(series.samples);
   // Pixels per new sample; none when no sample arrived (JSON null).
@@ -227,6 +254,13 @@ int run_render_frames(const RenderOptions& options) {
               shading_seconds * 1e3);
   std::printf("  load %.0f ms | build %.0f ms | frames %.0f ms | write %.0f ms | total %.0f ms\n", load_ms, build_ms, run_ms,
               write_ms, total_ms);
+  if (raytrace_ms)
+    std::printf("  speed-up over a 1-spp ray trace of the last view (%s shader): %.1f ms / %.1f ms per frame%s = %.1fx\n",
+                options.shader.c_str(), *raytrace_ms, frame_ms, options.sync ? "" : " (shading asynchronous)",
+                frame_ms > 0.0 ? *raytrace_ms / frame_ms : 0.0);
+  if (difference) std::printf("  against %s: %s\n", options.reference.c_str(), difference_line(*difference).c_str());
+  if (raytrace_difference)
+    std::printf("  the 1-spp ray trace against it: %s\n", difference_line(*raytrace_difference).c_str());
 
   if (!options.stats.empty()) {
     nlohmann::json stats = {
@@ -271,14 +305,21 @@ int run_render_frames(const RenderOptions& options) {
          {{"depth_culled", mean(series.points_culled)},
           {"occluded", mean(series.points_occluded)},
           {"holes_filled", mean(series.holes_filled)}}},
-        {"refined", renderer.cache().refined()},
+        {"refined", refined},
         {"sparseness", sparseness ? nlohmann::json(*sparseness) : nlohmann::json(nullptr)},
         {"samples", total_samples},
         {"rays", rays},
         {"mrays_per_s", mrays_per_s},
         {"shading_ms", shading_seconds * 1e3},
         {"setup_ms", {{"load", load_ms}, {"build", build_ms}, {"frames", run_ms}, {"write", write_ms}, {"total", total_ms}}},
+        {"raytrace_1spp_ms", raytrace_ms ? nlohmann::json(*raytrace_ms) : nlohmann::json(nullptr)},
+        {"speedup", raytrace_ms && frame_ms > 0.0 ? nlohmann::json(*raytrace_ms / frame_ms) : nlohmann::json(nullptr)},
     };
+    if (difference) {
+      stats["reference"] = difference_json(*difference);
+      stats["reference"]["file"] = options.reference;
+    }
+    if (raytrace_difference) stats["raytrace_reference"] = difference_json(*raytrace_difference);
     outputs.add_json(options.stats, stats);
   }
   outputs.commit();

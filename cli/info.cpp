@@ -30,9 +30,14 @@ int run_info(const InfoOptions& options) {
   const Scene scene = load_scene(options.scene, load_options);
 
   size_t unique_edges = 0, border_edges = 0, non_manifold_edges = 0, welded_vertices = 0, edge_bytes = 0;
+  size_t vertices = 0, merged = 0, merged_inexact = 0;
+  std::vector<EdgeTable> tables;  // per mesh, for the object lines
   int subdivided = 0;
   for (const Mesh& mesh : scene.meshes) {
-    const EdgeTable table = build_edge_table(mesh);
+    const EdgeTable& table = tables.emplace_back(build_edge_table(mesh));
+    vertices += mesh.positions.size();
+    merged += table.weld.merged;
+    merged_inexact += table.weld.merged_inexact;
     unique_edges += table.edges.size();
     border_edges += table.border_edges;
     non_manifold_edges += table.non_manifold_edges;
@@ -55,7 +60,8 @@ int run_info(const InfoOptions& options) {
               mesh_triangles + dropped, mesh_triangles, dropped);
   std::printf("instanced triangles: %zu (over all %zu objects, as rendered)\n", scene.triangle_count(),
               scene.objects.size());
-  std::printf("welded vertices: %zu\n", welded_vertices);
+  std::printf("welded vertices: %zu (of %zu: %zu copies welded, %zu of them within the tolerance but not bit-identical)\n",
+              welded_vertices, vertices, merged, merged_inexact);
   std::printf("unique edges: %zu\n", unique_edges);
   std::printf("border edges: %zu\n", border_edges);
   std::printf("non-manifold edges: %zu\n", non_manifold_edges);
@@ -69,9 +75,11 @@ int run_info(const InfoOptions& options) {
               bounds.max.y, bounds.max.z);
   for (const Object& object : scene.objects) {
     const Mesh& mesh = scene.meshes[object.mesh];
-    std::printf("  object '%s': mesh '%s', %zu triangles%s\n", object.name.c_str(), mesh.name.c_str(),
-                mesh.triangles.size(),
-                mesh.subdivided ? (", subdivided to level " + std::to_string(mesh.subdivision.level)).c_str() : "");
+    const EdgeTable& table = tables[object.mesh];
+    std::printf("  object '%s': mesh '%s', %zu triangles%s, %u border and %u non-manifold edges (weld tolerance %.3g)\n",
+                object.name.c_str(), mesh.name.c_str(), mesh.triangles.size(),
+                mesh.subdivided ? (", subdivided to level " + std::to_string(mesh.subdivision.level)).c_str() : "",
+                table.border_edges, table.non_manifold_edges, double(table.weld.tolerance));
   }
   std::printf("memory:\n");
   for (const MemoryItem& item : scene.memory()) std::printf("  %s: %s\n", item.name.c_str(), format_bytes(item.bytes).c_str());

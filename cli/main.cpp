@@ -107,6 +107,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("--camera-path", render.camera_path, "Camera keys per frame (docs/camera-path.md)");
   render_cmd->add_option("--frames-out", render.frames_out, "Write every frame, e.g. frames/f%04d.png");
   render_cmd->add_option("--save-epi", render.save_epi, "Write the last frame's EPI snapshot (mode epi), for epi-visualizer");
+  render_cmd->add_flag("!--no-speedup", render.speedup,
+                       "Skip the 1-spp ray trace of the last view that the speed-up over ray tracing is measured with");
 #else
   render.mode = "reference";  // built without the frame loop
   render_cmd->add_option("--mode", render.mode, "reference: converged, --spp samples per pixel; raytrace: 1 sample per pixel")
@@ -125,6 +127,8 @@ int main(int argc, char** argv) {
   render_cmd->add_option("-o,--output", render.output, "Output image; format from the extension (.exr linear, .png sRGB)")
       ->capture_default_str();
   render_cmd->add_option("--stats", render.stats, "Write timings, rays traced and Mrays/s, and counts as JSON");
+  render_cmd->add_option("--reference", render.reference,
+                         "Print the written image's error against this reference image (as epi compare), also into --stats");
   render_cmd->add_option("--exposure", render.exposure,
                          "Exposure in stops for 8-bit outputs (.png): linear * 2^stops, then a highlight shoulder above "
                          "0.8 that keeps hue, then sRGB. EXR is written linear, untouched")
@@ -156,6 +160,20 @@ int main(int argc, char** argv) {
   render_cmd->add_flag("--quiet", render.quiet, "No progress bar, no repair report");
   render_cmd->add_option("--subdiv-level", render.subdiv_level, "Override the subdivision level")->check(CLI::Range(0, 8));
   add_camera_options(*render_cmd, render.camera);
+
+  CompareOptions compare;
+  CLI::App* compare_cmd = app.add_subcommand(
+      "compare", "Compare an image with a reference: display-space RMSE, relative MSE (linear), pixels off by > 0.1 and > 0.2");
+  compare_cmd->add_option("image", compare.image, "Image file (.exr linear, .png display-referred)")->required();
+  compare_cmd->add_option("reference", compare.reference, "Reference image of the same size")->required();
+  compare_cmd->add_option("--json", compare.json, "Write the metrics as JSON");
+  compare_cmd->add_option("--diff", compare.diff, "Write the display difference, per channel, times --diff-scale, as an image");
+  compare_cmd->add_option("--diff-scale", compare.diff_scale, "Factor on the difference image")
+      ->check(CLI::Range(0.001f, 1000.0f))
+      ->capture_default_str();
+  compare_cmd->add_option("--exposure", compare.exposure, "Exposure in stops taking linear images to display space, as for PNG output")
+      ->check(CLI::Range(-32.0f, 32.0f))
+      ->capture_default_str();
 
 #ifdef EPI_WITH_RECONSTRUCT
   ReconstructOptions reconstruct;
@@ -203,6 +221,7 @@ int main(int argc, char** argv) {
   try {
     if (info_cmd->parsed()) return run_info(info);
     if (render_cmd->parsed()) return run_render(render);
+    if (compare_cmd->parsed()) return run_compare(compare);
 #ifdef EPI_WITH_RECONSTRUCT
     if (reconstruct_cmd->parsed()) return run_reconstruct(reconstruct);
 #endif

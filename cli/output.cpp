@@ -69,6 +69,44 @@ void check_output_image(const fs::path& file) {
   check_output_file(file);
 }
 
+void check_not_input(const std::vector<std::string>& outputs, const std::string& input) {
+  if (input.empty()) return;
+  std::error_code ec;
+  const fs::path in = fs::weakly_canonical(input, ec);
+  for (const std::string& output : outputs)
+    if (!output.empty() && fs::weakly_canonical(output, ec) == in) throw std::runtime_error(output + ": names an input");
+}
+
+ReferenceImage read_reference(const std::string& file, int width, int height) {
+  std::error_code ec;
+  if (!fs::exists(file, ec)) throw std::runtime_error(file + ": no such file");
+  if (fs::is_directory(file, ec)) throw std::runtime_error(file + ": is a folder");
+  ReferenceImage reference{file, read_image(file), encoding_of_file(file)};
+  if (width > 0 && (reference.image.width != width || reference.image.height != height))
+    throw std::runtime_error(file + ": the reference is " + std::to_string(reference.image.width) + "x" +
+                             std::to_string(reference.image.height) + ", the image " + std::to_string(width) + "x" +
+                             std::to_string(height));
+  return reference;
+}
+
+std::string difference_line(const ImageDifference& d) {
+  char text[256];
+  std::snprintf(text, sizeof text,
+                "display RMSE %.4f | relative MSE %.5f | pixels off by > 0.1: %.2f %%, by > 0.2: %.2f %% | max %.3f",
+                d.display_rmse, d.relative_mse, 100.0 * d.over_0_1, 100.0 * d.over_0_2, d.max_display_error);
+  return text;
+}
+
+nlohmann::json difference_json(const ImageDifference& d) {
+  return {{"width", d.width},
+          {"height", d.height},
+          {"display_rmse", d.display_rmse},
+          {"relative_mse", d.relative_mse},
+          {"over_0_1", d.over_0_1},
+          {"over_0_2", d.over_0_2},
+          {"max_display_error", d.max_display_error}};
+}
+
 StagedOutputs::~StagedOutputs() {
   for (const Staged& s : staged_) {
     std::error_code ec;

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "image/image.h"
+#include "image_compare.h"
 
 namespace epi {
 struct Scene;
@@ -41,6 +42,8 @@ class ProgressBar {
 void check_output_file(const std::filesystem::path& file);
 // Throws "<file>: given for two outputs" if two of the non-empty paths name the same file.
 void check_distinct_outputs(const std::vector<std::string>& files);
+// Throws "<file>: names an input" if one of the non-empty outputs is the file `input`.
+void check_not_input(const std::vector<std::string>& outputs, const std::string& input);
 // The same, plus a supported image extension (io/image).
 void check_output_image(const std::filesystem::path& file);
 
@@ -66,6 +69,18 @@ class StagedOutputs {
   };
   std::vector<Staged> staged_;
 };
+
+// A reference image for `compare` and `render --reference`: read (or refused with
+// "<file>: <problem>": missing, unreadable, or, when width > 0, not width x height) before work.
+struct ReferenceImage {
+  std::string file;
+  RgbImage image;
+  ImageEncoding encoding = ImageEncoding::linear;
+};
+ReferenceImage read_reference(const std::string& file, int width = 0, int height = 0);
+// The metrics (io/image/image_compare.h) on one line, and as JSON.
+std::string difference_line(const ImageDifference& d);
+nlohmann::json difference_json(const ImageDifference& d);
 
 // One line on stderr with the repairs made while loading (degenerate triangles dropped, zero
 // normals replaced), unless quiet or there were none.

@@ -2,6 +2,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include <tbb/global_control.h>
@@ -72,7 +73,10 @@ int run_render(const RenderOptions& options) {
   check_output_image(options.output);
   if (!options.stats.empty()) check_output_file(options.stats);
   check_distinct_outputs({options.output, options.stats});
+  check_not_input({options.output, options.stats}, options.reference);
   const ShaderSettings settings = shader_settings(options);
+  std::optional<ReferenceImage> reference;  // read and its size checked before work
+  if (!options.reference.empty()) reference = read_reference(options.reference, options.width, options.height);
 
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
@@ -119,6 +123,11 @@ int run_render(const RenderOptions& options) {
               view.height, options.mode.c_str(), spp, options.shader.c_str(), threads, scene.triangle_count());
   std::printf("  load %.0f ms | ray scene %.0f ms | render %.0f ms (%.1f Mrays/s) | write %.0f ms | total %.0f ms\n",
               load_ms, build_ms, render_ms, mrays_per_s, write_ms, total_ms);
+  std::optional<ImageDifference> difference;
+  if (reference) {
+    difference = compare_images(image, ImageEncoding::linear, reference->image, reference->encoding, options.exposure);
+    std::printf("  against %s: %s\n", options.reference.c_str(), difference_line(*difference).c_str());
+  }
   if (!options.stats.empty()) {
     nlohmann::json stats = {
         {"scene", options.scene},
@@ -134,6 +143,10 @@ int run_render(const RenderOptions& options) {
         {"mrays_per_s", mrays_per_s},
         {"stages_ms", {{"load", load_ms}, {"build", build_ms}, {"render", render_ms}, {"write", write_ms}, {"total", total_ms}}},
     };
+    if (difference) {
+      stats["reference"] = difference_json(*difference);
+      stats["reference"]["file"] = options.reference;
+    }
     outputs.add_json(options.stats, stats);
   }
   outputs.commit();

@@ -1,4 +1,4 @@
-// Mesh topology: welding vertices by position, degenerate-triangle repair, and the
+// Mesh topology: welding vertex copies into surface points, degenerate-triangle repair, and the
 // unique-edge table (adjacent faces per edge) that `epi info` counts and the edge finder uses.
 #pragma once
 
@@ -9,13 +9,35 @@
 
 namespace epi {
 
-// Vertices with bit-identical positions (after -0 -> +0) merge. Deterministic: the welded
-// vertex takes the lowest original index among its copies; welded ids are dense, in order.
+// The weld tolerance of a mesh: max(1e-5 x the diagonal of its bounding box, 8 float epsilons x
+// its largest coordinate magnitude). Exporters write the two copies of a seam vertex from different
+// formulas (cos 0 and cos 2pi) or round them differently (1e-16 to 1e-7 relative); real detail is
+// far above 1e-5 of a model's size. 0 for an empty mesh or one at a single point at the origin.
+float weld_tolerance(std::span<const glm::vec3> positions);
+
+// Which vertex copies are one surface point (docs/scene-format.md, "Welding"):
+//  1. position classes: copies within the tolerance in every coordinate, transitively (exact
+//     copies, -0 and +0 included; non-finite positions are never welded);
+//  2. a triangle side joins two classes; where exactly two sides join the same two classes (an
+//     exporter's seam), their copies weld: the edge becomes manifold. Where more sides do (two
+//     closed surfaces touching along an edge), they pair radially: around the edge, each face pairs
+//     with its neighbour on its inner side, so each surface stays closed and apart from the other;
+//     when no consistent pairing exists (inconsistent winding, odd count) all copies weld, as an
+//     exact weld would, and the edge is non-manifold;
+//  3. copies that share a class but no stitched edge (two boxes touching at a corner, sheets that
+//     merely touch) stay apart.
+// A triangle with two corners in one class is degenerate at the tolerance: those corners weld,
+// and it has no edges.
+// Deterministic: a welded vertex takes the position of its lowest original index; welded ids are
+// dense, in the order of those indices.
 struct Weld {
-  std::vector<uint32_t> remap;  // original vertex -> welded vertex
+  std::vector<uint32_t> remap;       // original vertex -> welded vertex
   std::vector<glm::vec3> positions;  // one per welded vertex
+  float tolerance = 0.0f;            // weld_tolerance of the positions
+  uint32_t merged = 0;               // copies welded onto another (original count - welded count)
+  uint32_t merged_inexact = 0;       // of those, copies whose position differs from their welded vertex's
 };
-Weld weld_by_position(std::span<const glm::vec3> positions);
+Weld weld_mesh(std::span<const glm::vec3> positions, std::span<const glm::uvec3> triangles);
 
 // A unique edge of the welded mesh with its adjacent faces.
 struct MeshEdge {

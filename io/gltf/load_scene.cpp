@@ -539,7 +539,10 @@ uint32_t repair_normals(PrimitiveData& data) {
 
 // The primitive as a welded control cage for OpenSubdiv.
 ControlMesh build_cage(const PrimitiveData& data, const MeshRequest& request, const std::string& where) {
-  const Weld weld = weld_by_position(data.positions);
+  std::vector<glm::uvec3> triangles_of_cage(data.corners.size() / 3);
+  for (size_t t = 0; t < triangles_of_cage.size(); ++t)
+    triangles_of_cage[t] = {data.corners[3 * t], data.corners[3 * t + 1], data.corners[3 * t + 2]};
+  const Weld weld = weld_mesh(data.positions, triangles_of_cage);
   ControlMesh cage;
   cage.positions = weld.positions;
   const size_t triangles = data.corners.size() / 3;

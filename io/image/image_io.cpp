@@ -28,6 +28,8 @@ constexpr std::array kEightBitExtensions = {".png", ".jpg", ".jpeg", ".tif", ".t
   throw ImageIOError(file.string() + ": " + problem);
 }
 
+}  // namespace
+
 float linear_to_srgb(float v) {
   return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
@@ -35,8 +37,6 @@ float linear_to_srgb(float v) {
 float srgb_to_linear(float v) {
   return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
 }
-
-}  // namespace
 
 void tone_map(const float* linear, float exposure_stops, float* display) {
   const float scale = std::exp2(exposure_stops);

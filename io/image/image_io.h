@@ -26,6 +26,10 @@ struct ImageIOError : std::runtime_error {
 constexpr float kShoulderKnee = 0.8f;
 void tone_map(const float* linear, float exposure_stops, float* display);
 
+// sRGB transfer functions on [0, 1].
+float linear_to_srgb(float v);
+float srgb_to_linear(float v);
+
 struct ImageWriteOptions {
   float exposure = 0.0f;  // stops, for the 8-bit formats (linear formats are written untouched)
 };

@@ -17,6 +17,7 @@
 #include <sys/wait.h>
 
 #include "gltf_builder.h"
+#include "test_meshes.h"
 #include "image_io.h"
 
 namespace fs = std::filesystem;
@@ -284,6 +285,35 @@ TEST(Cli, RenderReportsRepairsOnOneLineUnlessQuiet) {
   EXPECT_NE(edges.out.find(line), std::string::npos) << edges.out;
 }
 
+// The torus of issue 9 as exporters write it: seam copies from cos/sin of 0 and 2 pi (not
+// bit-identical). An exact weld reported 144 border edges and `epi edges` drew the seam as one.
+TEST(Cli, ExporterTorusIsWeldedWithoutBorders) {
+  const fs::path dir = temp_dir("exporter-torus");
+  const epi::Mesh torus = epi::edges::test::exporter_torus(48, 24);
+  std::vector<uint32_t> indices;
+  for (const glm::uvec3& t : torus.triangles) indices.insert(indices.end(), {t.x, t.y, t.z});
+  epi::test::GltfBuilder b;
+  const int mesh = b.add_mesh("torus", torus.positions, indices);
+  b.set_scene({b.add_node({{"name", "torus"}, {"mesh", mesh}})});
+  const fs::path scene = b.write_gltf(dir / "torus.gltf");
+  const EpiRun info = run_epi("info " + scene.string());
+  ASSERT_EXIT_CODE(info, 0);
+  EXPECT_NE(info.out.find("welded vertices: 1152 (of 1225: 73 copies welded, 73 of them within the tolerance"),
+            std::string::npos) << info.out;
+  EXPECT_EQ(number_after(info.out, "\nborder edges: "), 0) << info.out;
+  EXPECT_NE(info.out.find("object 'torus': mesh 'torus', 2304 triangles, 0 border and 0 non-manifold edges"),
+            std::string::npos) << info.out;
+  const EpiRun edges = run_epi("edges " + scene.string() + " --eye 0,3,2 --target 0,0,0 -o " + (dir / "e.json").string());
+  ASSERT_EXIT_CODE(edges, 0);
+  const json found = read_json(dir / "e.json");
+  size_t silhouettes = 0;
+  for (const json& e : found["edges"]) {
+    EXPECT_NE(e["kind"], "border");
+    silhouettes += e["kind"] == "silhouette";
+  }
+  EXPECT_GT(silhouettes, 0u);
+}
+
 // ---------------------------------------------------------------------------------------------
 // epi render
 
@@ -531,4 +561,112 @@ TEST(Cli, EdgesWritesTheJsonOfTheIssueTheSvgAndStats) {
   EXPECT_GT(stats["memory_bytes"].get<double>(), 0.0);
   EXPECT_EQ(stats["meshes"].size(), 6u);
   EXPECT_EQ(stats["triangles"].get<int>(), 36);
+}
+
+// ---------------------------------------------------------------------------------------------
+// epi compare
+
+// A 10x10 grey reference and an image differing in two pixels by known display amounts: pixel 3
+// by 38/255 (> 0.1) in green, pixel 57 by 64/255 (> 0.2) in red. Display values are k/255 and the
+// linear values stay under the tone map's knee, so EXR and PNG files hold the same display values.
+struct KnownDifference {
+  epi::RgbImage image{10, 10}, reference{10, 10};
+  KnownDifference() {
+    const float grey = epi::srgb_to_linear(128.0f / 255.0f);
+    std::fill(image.pixels.begin(), image.pixels.end(), grey);
+    std::fill(reference.pixels.begin(), reference.pixels.end(), grey);
+    image.pixels[3 * 3 + 1] = epi::srgb_to_linear(166.0f / 255.0f);
+    image.pixels[57 * 3 + 0] = epi::srgb_to_linear(192.0f / 255.0f);
+  }
+  double rmse() const { return std::sqrt((38.0 * 38.0 + 64.0 * 64.0) / (255.0 * 255.0) / 300.0); }
+  double relative_mse() const {  // the documented definition, on linear values
+    double sum = 0.0;
+    for (size_t i = 0; i < image.pixels.size(); ++i) {
+      const double x = image.pixels[i], r = reference.pixels[i];
+      sum += (x - r) * (x - r) / (r * r + 0.01);
+    }
+    return sum / double(image.pixels.size());
+  }
+};
+
+TEST(Cli, CompareGivesTheKnownDifferences) {
+  const fs::path dir = temp_dir("compare");
+  const KnownDifference known;
+  for (const char* ext : {".exr", ".png"}) {
+    const fs::path image = dir / (std::string("image") + ext), reference = dir / (std::string("reference") + ext);
+    epi::write_image(image, known.image);
+    epi::write_image(reference, known.reference);
+    const EpiRun run = run_epi("compare " + image.string() + " " + reference.string() + " --json " + (dir / "c.json").string());
+    ASSERT_EXIT_CODE(run, 0);
+    EXPECT_NE(run.out.find("10x10"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("by > 0.1: 2.00 %, by > 0.2: 1.00 %"), std::string::npos) << run.out;
+    const json c = read_json(dir / "c.json");
+    const double tolerance = std::string(ext) == ".png" ? 1e-4 : 1e-6;  // 8-bit decoding round trip
+    EXPECT_NEAR(c["display_rmse"].get<double>(), known.rmse(), tolerance) << ext;
+    EXPECT_NEAR(c["max_display_error"].get<double>(), 64.0 / 255.0, tolerance) << ext;
+    EXPECT_DOUBLE_EQ(c["over_0_1"].get<double>(), 0.02) << ext;
+    EXPECT_DOUBLE_EQ(c["over_0_2"].get<double>(), 0.01) << ext;
+    EXPECT_NEAR(c["relative_mse"].get<double>(), known.relative_mse(), 1e-3 * known.relative_mse()) << ext;
+    EXPECT_EQ(c["width"].get<int>(), 10);
+    EXPECT_EQ(c["image"].get<std::string>(), image.string());
+    // An image against itself: all zero.
+    const EpiRun same = run_epi("compare " + image.string() + " " + image.string() + " --json " + (dir / "s.json").string());
+    ASSERT_EXIT_CODE(same, 0);
+    const json s = read_json(dir / "s.json");
+    for (const char* key : {"display_rmse", "relative_mse", "over_0_1", "over_0_2", "max_display_error"})
+      EXPECT_EQ(s[key].get<double>(), 0.0) << key;
+  }
+  // The difference image: display difference times --diff-scale, as linear values for EXR.
+  const EpiRun diff = run_epi("compare " + (dir / "image.exr").string() + " " + (dir / "reference.exr").string() +
+                              " --diff " + (dir / "d.exr").string() + " --diff-scale 2");
+  ASSERT_EXIT_CODE(diff, 0);
+  const epi::RgbImage d = epi::read_image(dir / "d.exr");
+  EXPECT_NEAR(epi::linear_to_srgb(d.pixels[3 * 3 + 1]), 2.0 * 38.0 / 255.0, 1e-5);
+  EXPECT_NEAR(epi::linear_to_srgb(d.pixels[57 * 3 + 0]), 2.0 * 64.0 / 255.0, 1e-5);
+  EXPECT_EQ(std::count(d.pixels.begin(), d.pixels.end(), 0.0f), long(d.pixels.size()) - 2);
+  EXPECT_EXIT_CODE(run_epi("compare " + (dir / "image.exr").string() + " " + (dir / "reference.exr").string() +
+                           " --diff " + (dir / "image.exr").string()),
+                   kFailed);  // an input is never overwritten
+  // A linear image against its display-referred copy: display space is where they meet.
+  const EpiRun mixed = run_epi("compare " + (dir / "image.exr").string() + " " + (dir / "image.png").string() +
+                               " --json " + (dir / "m.json").string());
+  ASSERT_EXIT_CODE(mixed, 0);
+  EXPECT_LT(read_json(dir / "m.json")["display_rmse"].get<double>(), 1e-3);
+  // Exposure applies to linear images: one stop brighter is far from the reference.
+  const EpiRun brighter = run_epi("compare " + (dir / "image.exr").string() + " " + (dir / "image.png").string() +
+                                  " --exposure 1 --json " + (dir / "b.json").string());
+  ASSERT_EXIT_CODE(brighter, 0);
+  EXPECT_GT(read_json(dir / "b.json")["over_0_1"].get<double>(), 0.9);  // grey 0.50 -> 0.69
+}
+
+TEST(Cli, CompareRefusesMissingUnreadableAndMismatchedImages) {
+  const fs::path dir = temp_dir("compare-errors");
+  const KnownDifference known;
+  epi::write_image(dir / "a.exr", known.image);
+  epi::write_image(dir / "small.exr", epi::RgbImage(5, 10));
+  write_file(dir / "text.png", "not an image");
+  const fs::path json_out = dir / "c.json";
+  struct Case {
+    std::string args, file, problem;
+  };
+  const std::vector<Case> cases = {
+      {(dir / "missing.exr").string() + " " + (dir / "a.exr").string(), (dir / "missing.exr").string(), "no such file"},
+      {(dir / "a.exr").string() + " " + (dir / "missing.exr").string(), (dir / "missing.exr").string(), "no such file"},
+      {(dir / "a.exr").string() + " " + (dir / "small.exr").string(), (dir / "small.exr").string(),
+       "the reference is 5x10, the image 10x10"},
+      {(dir / "text.png").string() + " " + (dir / "a.exr").string(), (dir / "text.png").string(), ""},
+      {(dir / "a.exr").string() + " " + dir.string(), dir.string(), "is a folder"},
+  };
+  for (const Case& c : cases) {
+    const EpiRun run = run_epi("compare " + c.args + " --json " + json_out.string());
+    EXPECT_EXIT_CODE(run, kFailed);
+    EXPECT_EQ(run.out.rfind("epi: " + c.file + ": " + c.problem, 0), 0u) << run.out;
+    EXPECT_EQ(count_lines(run.out), 1) << run.out;
+    EXPECT_FALSE(fs::exists(json_out)) << c.args;
+  }
+  const EpiRun bad_json = run_epi("compare " + (dir / "a.exr").string() + " " + (dir / "a.exr").string() + " --json " +
+                                  (dir / "no-folder" / "c.json").string());
+  EXPECT_EXIT_CODE(bad_json, kFailed);
+  EXPECT_NE(bad_json.out.find("no-folder"), std::string::npos) << bad_json.out;
+  EXPECT_EXIT_CODE(run_epi("compare " + (dir / "a.exr").string()), kUsage);
 }

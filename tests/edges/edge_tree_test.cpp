@@ -35,6 +35,19 @@ TEST(EdgeMesh, BoxWeldsSeamsAndFlagsSharpEdges) {
   EXPECT_EQ(sharp, 12);
 }
 
+// The torus of issue 9, written as exporters write it (seam copies from cos/sin of 0 and 2 pi):
+// the edge finder sees one closed smooth surface, so the seam is no border and no feature edge;
+// seen from outside, its silhouettes are the only edges.
+TEST(EdgeMesh, ExporterTorusSeamIsNoEdge) {
+  const EdgeMesh m = build_edge_mesh(exporter_torus(48, 24));
+  EXPECT_EQ(m.positions.size(), size_t(48 * 24));
+  EXPECT_TRUE(m.border_edges.empty());
+  EXPECT_TRUE(m.non_manifold.empty());
+  EXPECT_TRUE(m.feature_edges.empty());
+  EXPECT_EQ(m.edge_count(), size_t(3 * 48 * 24));
+  for (uint8_t f : m.flags) EXPECT_EQ(f, 0);
+}
+
 TEST(EdgeMesh, SharpCutoffIsPerMesh) {
   Mesh mesh = box({-1, -1, -1}, {1, 1, 1});
   mesh.sharp_angle_degrees = 95.0f;  // the box's 90 degree edges are now smooth

@@ -54,6 +54,28 @@ inline Mesh torus(int rings, int segments, float major = 1.0f, float minor = 0.3
   return finish(std::move(m), "torus");
 }
 
+// A torus as exporters write it: a (rings + 1) x (segments + 1) grid of vertices with UVs in
+// mind, the last row and column repeating the first at angle 2 pi, so the seam copies come from
+// cos/sin of 2 pi and of 0 and differ by about 1e-16 (or float rounding). 2 (rings + segments)
+// border edges before welding with a tolerance.
+inline Mesh exporter_torus(int rings, int segments, float major = 1.0f, float minor = 0.35f,
+                           glm::vec3 centre = glm::vec3(0.0f)) {
+  Mesh m;
+  for (int r = 0; r <= rings; ++r)
+    for (int s = 0; s <= segments; ++s) {
+      const double u = 2 * M_PI * r / rings, v = 2 * M_PI * s / segments;
+      m.positions.push_back(centre + glm::vec3((major + minor * std::cos(v)) * std::cos(u), minor * std::sin(v),
+                                               (major + minor * std::cos(v)) * std::sin(u)));
+    }
+  auto id = [&](int r, int s) { return uint32_t(r * (segments + 1) + s); };
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      m.triangles.push_back({id(r, s), id(r, s + 1), id(r + 1, s)});
+      m.triangles.push_back({id(r, s + 1), id(r + 1, s + 1), id(r + 1, s)});
+    }
+  return finish(std::move(m), "exporter_torus");
+}
+
 // An axis-aligned box with 4 vertices per face (split at the sharp edges, as exporters write it).
 inline Mesh box(glm::vec3 lo, glm::vec3 hi) {
   Mesh m;

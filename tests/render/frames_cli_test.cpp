@@ -197,4 +197,67 @@ TEST(FramesCli, EveryFrameNameIsCheckedBeforeAnyWork) {
   fs::remove_all(dir);
 }
 
+// --reference: the written frame's metrics are those `epi compare` gives for the written file;
+// the speed-up over a 1-spp ray trace is measured unless --no-speedup; a bad reference fails
+// before any work.
+TEST(FramesCli, ReferenceMetricsAndSpeedUp) {
+  const fs::path dir = temp_dir();
+  const std::string still = " --fov 40";  // the scene camera, still: one view for the reference and every run
+  const std::string base = "render " + kScene + kSmall + still + " --sync --seed 3";
+  const EpiRun reference = run_epi("render " + kScene + " --mode raytrace --size 48x40 --quiet -o " + (dir / "ref.exr").string() +
+                                   " --reference " + (dir / "missing.exr").string());
+  EXPECT_EQ(reference.exit_code, 1) << reference.out;  // a missing reference: before any work
+  EXPECT_NE(reference.out.find("missing.exr: no such file"), std::string::npos) << reference.out;
+  EXPECT_FALSE(fs::exists(dir / "ref.exr"));
+  ASSERT_EQ(run_epi("render " + kScene + still + " --mode raytrace --size 48x40 --seed 3 --quiet -o " + (dir / "ref.exr").string()).exit_code, 0);
+
+  for (const char* mode : {"epi", "rendercache", "raytrace"}) {
+    const EpiRun run = run_epi(base + " --mode " + mode + " -o " + (dir / "a.exr").string() + " --stats " +
+                               (dir / "a.json").string() + " --reference " + (dir / "ref.exr").string());
+    ASSERT_EQ(run.exit_code, 0) << run.out;
+    EXPECT_NE(run.out.find("against " + (dir / "ref.exr").string() + ": display RMSE "), std::string::npos) << run.out;
+    const nlohmann::json stats = nlohmann::json::parse(read_file(dir / "a.json"));
+    const EpiRun compare = run_epi("compare " + (dir / "a.exr").string() + " " + (dir / "ref.exr").string() + " --json " +
+                                   (dir / "c.json").string());
+    ASSERT_EQ(compare.exit_code, 0) << compare.out;
+    const nlohmann::json c = nlohmann::json::parse(read_file(dir / "c.json"));
+    for (const char* key : {"display_rmse", "relative_mse", "over_0_1", "over_0_2", "max_display_error"})
+      EXPECT_DOUBLE_EQ(stats["reference"][key].get<double>(), c[key].get<double>()) << mode << " " << key;
+    EXPECT_EQ(stats["reference"]["file"], (dir / "ref.exr").string());
+    if (std::string(mode) == "raytrace") {
+      EXPECT_EQ(stats["reference"]["display_rmse"].get<double>(), 0.0);  // the same ray trace
+      continue;
+    }
+    EXPECT_GT(stats["reference"]["display_rmse"].get<double>(), 0.0) << mode;
+    EXPECT_GT(stats["raytrace_1spp_ms"].get<double>(), 0.0) << mode;
+    EXPECT_NEAR(stats["speedup"].get<double>(),
+                stats["raytrace_1spp_ms"].get<double>() / stats["stages_ms"]["total"].get<double>(), 1e-9);
+    EXPECT_NE(run.out.find("speed-up over a 1-spp ray trace of the last view (direct shader): "), std::string::npos) << run.out;
+    // The timed ray trace is the reference itself (same view, shader and seed): no error.
+    EXPECT_NE(run.out.find("the 1-spp ray trace against it: display RMSE 0.0000"), std::string::npos) << run.out;
+    EXPECT_EQ(stats["raytrace_reference"]["display_rmse"].get<double>(), 0.0) << mode;
+  }
+  const EpiRun skipped = run_epi(base + " --no-speedup -o " + (dir / "b.png").string() + " --stats " + (dir / "b.json").string());
+  ASSERT_EQ(skipped.exit_code, 0) << skipped.out;
+  EXPECT_EQ(skipped.out.find("speed-up"), std::string::npos) << skipped.out;
+  const nlohmann::json stats = nlohmann::json::parse(read_file(dir / "b.json"));
+  EXPECT_TRUE(stats["speedup"].is_null());
+  EXPECT_TRUE(stats["raytrace_1spp_ms"].is_null());
+  EXPECT_FALSE(stats.contains("reference"));
+
+  // The output may not overwrite the reference.
+  const EpiRun onto = run_epi(base + " -o " + (dir / "ref.exr").string() + " --reference " + (dir / "ref.exr").string());
+  EXPECT_EQ(onto.exit_code, 1) << onto.out;
+  EXPECT_NE(onto.out.find("ref.exr: names an input"), std::string::npos) << onto.out;
+
+  // A reference of another size: one line naming it and both sizes, nothing written.
+  const EpiRun mismatch = run_epi("render " + kScene + " --size 32x40 --frames 2 --sync --quiet -o " + (dir / "m.png").string() +
+                                  " --reference " + (dir / "ref.exr").string());
+  EXPECT_EQ(mismatch.exit_code, 1) << mismatch.out;
+  EXPECT_NE(mismatch.out.find("ref.exr: the reference is 48x40, the image 32x40"), std::string::npos) << mismatch.out;
+  EXPECT_EQ(std::count(mismatch.out.begin(), mismatch.out.end(), '\n'), 1) << mismatch.out;
+  EXPECT_FALSE(fs::exists(dir / "m.png"));
+  fs::remove_all(dir);
+}
+
 }  // namespace
