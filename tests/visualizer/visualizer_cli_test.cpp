@@ -26,7 +26,18 @@ struct RunResult {
   std::string out;  // stdout and stderr together
 };
 
+RunResult run_once(const std::string& command);
+// xvfb-run on a shared machine: a server that another run grabs first can leave the window
+// without a display. Such a run is tried again (up to 3 times); every other outcome counts.
 RunResult run(const std::string& command) {
+  RunResult r = run_once(command);
+  for (int k = 0; k < 2 && command.find("xvfb-run") != std::string::npos &&
+                  r.out.find("cannot open a window") != std::string::npos; ++k)
+    r = run_once(command);
+  return r;
+}
+
+RunResult run_once(const std::string& command) {
   RunResult r;
   FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
   if (!pipe) return r;
