@@ -1,7 +1,11 @@
-// core/epi filters: each stage at 512x512 and 1920x1080, oracle (one whole-image scalar loop)
-// vs tiled (bands in parallel, 1 and 2 threads), in Mpixel/s, with each figure's distance from
-// a plain streaming read+write of the EPI's 10 bytes per pixel ("x_floor": time / floor time).
-// Also: AoS (packed 10-byte pixels) vs SoA planes, for the layout decision. docs/performance.md.
+// core/epi filters, the per-filter micro-benchmarks: each stage of the stage table (stages.h)
+// timed by the staged schedule with the per-pixel oracle functions, and with the Highway row
+// kernels of each compiled target (the scalar target is the scalar row kernel), on 1 and 2
+// threads, at 512x512, 1920x1080 and 3840x2160, on frames with few and many edges; the outputs
+// are checked equal to the oracle, bit for bit, before timing. Counters: Mpixel/s, ns/pixel and
+// x_floor (time / the time of a plain streaming read+write of the EPI's 10 bytes per pixel).
+// Also the whole reconstruction (oracle vs tiled row stream), the band height, rasterization
+// and the AoS/SoA layout decision. bench/perf_tables.py turns the JSON into docs/performance.md.
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -9,6 +13,8 @@
 #include <map>
 #include <memory>
 #include <random>
+#include <string>
+#include <tuple>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -23,24 +29,23 @@
 #include "epi/reachability.h"
 #include "epi/reconstruct.h"
 #include "epi/rendercache.h"
+#include "epi/stages.h"
+#include "simd/row_kernels.h"
 
 namespace epi {
 namespace {
 
 constexpr double kDensity = 0.5;
 
-// A frame: one random polygon (radius 2 to 102 px) per 2600 pixels, half the pixels sampled;
-// the same statistics at both sizes.
+// A frame: random polygons (radius 2 to 102 px) with half the pixels sampled, the same
+// statistics at every size: "few" edges, one polygon per 2600 pixels (the figures before the
+// SIMD kernels), "many", one per 650 pixels.
 struct Frame {
   Pattern pattern;
   std::vector<Segment> edges;
   BoundaryMasks masks;
-  EpiImage epi;       // classified, with reachability
-  RgbImage interpolated;          // render cache colours (input of anti-aliasing and complex)
-  RgbImage primary;               // EPI interpolation (input of the fill step)
-  std::vector<uint8_t> found;
-  std::vector<uint8_t> types;     // the pixel types (read-only plane)
-  EpiRows rows() const { return whole_image_rows(epi, types.data()); }
+  EpiImage epi;       // as sampled: the reconstruction's input
+  Reconstruction oracle;  // reconstruct_oracle's result, the reference every kernel must equal
   double floor_seconds = 0;  // streaming read+write of the 10-byte pixels, one thread
 };
 
@@ -82,29 +87,18 @@ double streaming_floor(const EpiImage& epi) {
   return best;
 }
 
-Frame& frame(int w, int h) {
-  static std::map<int, std::unique_ptr<Frame>> frames;
-  auto& f = frames[w * 100000 + h];
+Frame& frame(int w, int h, int edges = 0) {
+  static std::map<std::tuple<int, int, int>, std::unique_ptr<Frame>> frames;
+  auto& f = frames[{w, h, edges}];
   if (!f) {
     f = std::make_unique<Frame>();
-    f->pattern = random_pattern(w, h, w * h / 2600);
+    f->pattern = random_pattern(w, h, w * h / (edges == 0 ? 2600 : 650));
     f->edges = pattern_edges(f->pattern);
     f->masks = BoundaryMasks(w, h, true);
     rasterize_edges(f->masks, f->edges);
     f->epi = EpiImage(w, h);
     sample_pattern(f->pattern, kDensity, 7, f->epi);
-    f->interpolated = reconstruct_oracle(f->epi, f->masks, {Filter::rendercache, false, false}).image;
-    reconstruct_oracle(f->epi, f->masks, {});
-    f->types.resize(size_t(w) * h);
-    for (size_t i = 0; i < f->types.size(); ++i) f->types[i] = uint8_t(pixel_type(f->epi.cache[i]));
-    f->primary = RgbImage(w, h);
-    f->found.resize(size_t(w) * h);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        bool found = false;
-        interpolate_pixel(f->rows(), x, y, reach_mask(f->epi.cache[f->epi.index(x, y)]), f->primary.at(x, y), &found);
-        f->found[f->epi.index(x, y)] = found;
-      }
+    f->oracle = reconstruct_oracle(f->epi, f->masks, {});
     f->floor_seconds = streaming_floor(f->epi);
   }
   return *f;
@@ -159,137 +153,110 @@ void BM_Rasterize(benchmark::State& state) {
   state.counters["edges"] = double(f.edges.size());
 }
 
-void BM_Classify(benchmark::State& state) {
-  Frame& f = frame(int(state.range(0)), int(state.range(1)));
-  EpiImage epi = f.epi;
-  timed(state, f, [&] { run_rows(int(state.range(2)), epi.height, [&](int y0, int y1) { classify_rows(epi, f.masks, y0, y1); }); });
+// Kernel argument k: 0 the per-pixel oracle functions, k >= 1 the k-th compiled Highway target.
+KernelChoice kernel_choice(int64_t k) {
+  if (k == 0) return {true, 0};
+  return {false, simd::compiled_targets()[size_t(k - 1)]};
 }
 
-void BM_Reachability(benchmark::State& state) {
-  Frame& f = frame(int(state.range(0)), int(state.range(1)));
-  const int w = f.epi.width, h = f.epi.height;
-  std::vector<uint32_t> out(size_t(w) * h);
-  std::vector<uint8_t> types(size_t(w) * h);
-  for (size_t i = 0; i < types.size(); ++i) types[i] = uint8_t(pixel_type(f.epi.cache[i]));
-  const TypeRows plane{types.data(), w, h};
-  const int threads = int(state.range(2));
-  timed(state, f, [&] {
-    run_rows(threads, h, [&](int y0, int y1) {
-      std::vector<uint8_t> scratch(size_t(w) + 4);
-      for (int y = y0; y < y1; ++y) {
-        uint32_t* row = &out[size_t(y) * w];
-        if (threads == 0) {
-          for (int x = 0; x < w; ++x) row[x] = reach_full(f.epi, x, y);
-        } else {  // the tiled path: empty windows skipped, symmetry from the two rows above
-          const bool reuse = y >= y0 + 2;
-          reach_row(plane, y, reuse ? row - w : nullptr, reuse ? row - 2 * w : nullptr, row, scratch.data());
-        }
-      }
-    });
-    benchmark::DoNotOptimize(out.data());
-  });
+bool same_result(const Reconstruction& a, const Reconstruction& b) {
+  auto same = [](const auto& x, const auto& y) {
+    return x.size() == y.size() && std::memcmp(x.data(), y.data(), x.size() * sizeof(x[0])) == 0;
+  };
+  return same(a.image.pixels, b.image.pixels) && same(a.priority, b.priority) && same(a.edge, b.edge) &&
+         same(a.cache, b.cache);
 }
 
-void BM_Interpolate(benchmark::State& state) {
-  Frame& f = frame(int(state.range(0)), int(state.range(1)));
-  RgbImage out(f.epi.width, f.epi.height);
-  timed(state, f, [&] {
-    run_rows(int(state.range(2)), f.epi.height, [&](int y0, int y1) {
-      for (int y = y0; y < y1; ++y)
-        for (int x = 0; x < f.epi.width; ++x)
-          interpolate_pixel(f.rows(), x, y, reach_mask(f.epi.cache[f.epi.index(x, y)]), out.at(x, y));
-    });
-    benchmark::DoNotOptimize(out.pixels.data());
-  });
-}
-
-void BM_Fill(benchmark::State& state) {
-  Frame& f = frame(int(state.range(0)), int(state.range(1)));
-  const int w = f.epi.width, h = f.epi.height;
-  RgbImage out(w, h);
-  timed(state, f, [&] {
-    run_rows(int(state.range(2)), h, [&](int y0, int y1) {
-      for (int y = y0; y < y1; ++y) {
-        const float* rows[5];
-        const uint8_t* found[5];
-        for (int k = 0; k < 5; ++k) {
-          const int ry = y - 2 + k;
-          rows[k] = ry >= 0 && ry < h ? f.primary.at(0, ry) : nullptr;
-          found[k] = ry >= 0 && ry < h ? &f.found[size_t(ry) * w] : nullptr;
-        }
-        for (int x = 0; x < w; ++x) fill_pixel(x, w, reach_mask(f.epi.cache[f.epi.index(x, y)]), rows, found, out.at(x, y));
-      }
-    });
-    benchmark::DoNotOptimize(out.pixels.data());
-  });
-}
-
-void BM_AntiAlias(benchmark::State& state) {
-  Frame& f = frame(int(state.range(0)), int(state.range(1)));
-  const int w = f.epi.width, h = f.epi.height;
-  RgbImage out(w, h);
-  timed(state, f, [&] {
-    run_rows(int(state.range(2)), h, [&](int y0, int y1) {
-      for (int y = y0; y < y1; ++y) {
-        const float* rows[3] = {y > 0 ? f.interpolated.at(0, y - 1) : nullptr, f.interpolated.at(0, y),
-                                y + 1 < h ? f.interpolated.at(0, y + 1) : nullptr};
-        for (int x = 0; x < w; ++x) antialias_pixel(f.rows(), x, y, rows, out.at(x, y));
-      }
-    });
-    benchmark::DoNotOptimize(out.pixels.data());
-  });
-}
-
-void BM_Complex(benchmark::State& state) {
-  Frame& f = frame(int(state.range(0)), int(state.range(1)));
-  const int w = f.epi.width;
-  RgbImage out(w, f.epi.height);
-  int64_t complex = 0;
-  for (uint32_t c : f.epi.cache) complex += pixel_type(c) == kTypeComplex;
-  timed(state, f, [&] {
-    run_rows(int(state.range(2)), f.epi.height, [&](int y0, int y1) {
-      for (int y = y0; y < y1; ++y)
-        for (int x = 0; x < w; ++x)
-          if (pixel_type(f.epi.cache[f.epi.index(x, y)]) == kTypeComplex)
-            complex_pixel(f.rows(), f.masks, x, y, f.interpolated.at(x, y), out.at(x, y));
-    });
-    benchmark::DoNotOptimize(out.pixels.data());
-  });
-  state.counters["complex_pixels"] = double(complex);
-}
-
-void BM_RenderCache(benchmark::State& state) {
-  Frame& f = frame(int(state.range(0)), int(state.range(1)));
-  RgbImage out(f.epi.width, f.epi.height);
-  timed(state, f, [&] {
-    run_rows(int(state.range(2)), f.epi.height, [&](int y0, int y1) {
-      for (int y = y0; y < y1; ++y)
-        for (int x = 0; x < f.epi.width; ++x) rendercache_pixel(f.rows(), x, y, out.at(x, y));
-    });
-    benchmark::DoNotOptimize(out.pixels.data());
-  });
-}
-
-// The whole reconstruction: reconstruct_oracle vs reconstruct_tiled (same result, bit for bit).
-void BM_Reconstruct(benchmark::State& state) {
-  Frame& f = frame(int(state.range(0)), int(state.range(1)));
-  EpiImage epi = f.epi;
-  const int threads = int(state.range(2));
+// Each filter (stage) of the staged schedule with one kernel choice: args width, height,
+// kernel (kernel_choice), threads, edges (0 few, 1 many). The iteration time is the sum of the
+// stages; every stage's time is a counter.
+void BM_Filters(benchmark::State& state) {
+  Frame& f = frame(int(state.range(0)), int(state.range(1)), int(state.range(4)));
+  const int threads = int(state.range(3));
+  Reconstructor reconstructor(kernel_choice(state.range(2)));
   Reconstruction r;
+  ReconstructTimes times;
+  reconstructor.staged(f.epi, f.masks, {}, r, times, {64, threads});
+  if (!same_result(r, f.oracle)) return state.SkipWithError("the result differs from the oracle");
+  std::array<double, kStageCount> sum{}, cpu{};
+  for (auto _ : state) {
+    reconstructor.staged(f.epi, f.masks, {}, r, times, {64, threads});
+    double total = 0;
+    for (int k = 0; k < kStageCount; ++k) {
+      sum[size_t(k)] += times.ms[size_t(k)], cpu[size_t(k)] += times.cpu_ms[size_t(k)];
+      total += times.ms[size_t(k)];
+    }
+    state.SetIterationTime(total * 1e-3);
+  }
+  const double pixels = double(f.epi.width) * f.epi.height, n = double(state.iterations());
+  for (const StageInfo& stage : kStages) {
+    const double ms = sum[size_t(stage.stage)] / n;
+    const std::string name = stage.name;
+    state.counters[name + "_ms"] = ms;
+    state.counters[name + "_ns_px"] = ms * 1e6 / pixels;
+    state.counters[name + "_Mpix/s"] = ms > 0 ? pixels * 1e-3 / ms : 0.0;
+    state.counters[name + "_x_floor"] = ms * 1e-3 / f.floor_seconds;
+    state.counters[name + "_cpu_ms"] = cpu[size_t(stage.stage)] / n;  // the calling thread's: all of it at 1 thread
+  }
+  state.counters["floor_ms"] = f.floor_seconds * 1e3;
+  state.counters["Mpix/s"] = benchmark::Counter(pixels * 1e-6, benchmark::Counter::kIsIterationInvariantRate);
+  state.SetLabel(std::string(reconstructor.kernel_name()) + (state.range(4) ? " many" : " few") + " " +
+                 std::to_string(threads) + "T");
+}
+
+// The whole reconstruction: args width, height, kernel, threads, edges. Kernel 0 is the
+// oracle schedule (one thread, whole-image stages); the others the tiled row stream (bands of
+// 64 rows). Equal to the oracle, bit for bit, checked before timing.
+void BM_Reconstruct(benchmark::State& state) {
+  Frame& f = frame(int(state.range(0)), int(state.range(1)), int(state.range(4)));
+  const int threads = int(state.range(3));
+  const bool oracle = state.range(2) == 0;
+  Reconstructor reconstructor(kernel_choice(state.range(2)));
+  Reconstruction r;
+  auto run = [&] {
+    if (oracle) reconstructor.oracle(f.epi, f.masks, {}, r);
+    else reconstructor.tiled(f.epi, f.masks, {}, {64, threads}, r);
+  };
+  run();
+  if (!same_result(r, f.oracle)) return state.SkipWithError("the result differs from the oracle");
   timed(state, f, [&] {
-    if (threads == 0) r = reconstruct_oracle(epi, f.masks, {});
-    else reconstruct_tiled(epi, f.masks, {}, {64, threads}, r);
+    run();
     benchmark::DoNotOptimize(r.image.pixels.data());
-  });
+  }, false);
+  state.counters["ns_px"] = state.counters["x_floor"].value * f.floor_seconds * 1e9 / (double(f.epi.width) * f.epi.height);
+  state.SetLabel(oracle ? std::string("oracle") + (state.range(4) ? " many" : " few")
+                        : std::string("tiled ") + reconstructor.kernel_name() + (state.range(4) ? " many " : " few ") +
+                              std::to_string(threads) + "T");
+}
+
+// What reachability reused across rows saves: the reachability stage of the staged schedule
+// (chunks of 8 rows: 6 of 8 rows take the upper half by symmetry) with the best target, one
+// thread, with and without the reuse (arg 2), few edges.
+void BM_ReachReuse(benchmark::State& state) {
+  Frame& f = frame(int(state.range(0)), int(state.range(1)));
+  Reconstructor reconstructor;
+  Reconstruction r;
+  ReconstructTimes times;
+  const Schedule schedule{64, 1, state.range(2) != 0};
+  double wall = 0, cpu = 0;
+  for (auto _ : state) {
+    reconstructor.staged(f.epi, f.masks, {}, r, times, schedule);
+    wall += times[Stage::reachability], cpu += times.cpu_ms[size_t(Stage::reachability)];
+    state.SetIterationTime(times[Stage::reachability] * 1e-3);
+  }
+  if (!same_result(r, f.oracle)) return state.SkipWithError("the result differs from the oracle");
+  state.counters["reachability_ms"] = wall / double(state.iterations());
+  state.counters["reachability_cpu_ms"] = cpu / double(state.iterations());
+  state.SetLabel(std::string(reconstructor.kernel_name()) + (schedule.reach_symmetry ? " symmetry" : " all 24"));
 }
 
 // The band height of the schedule, 1920x1080, 2 threads.
 void BM_ReconstructBandRows(benchmark::State& state) {
   Frame& f = frame(1920, 1080);
-  EpiImage epi = f.epi;
   Reconstruction r;
+  Reconstructor reconstructor;
   timed(state, f, [&] {
-    reconstruct_tiled(epi, f.masks, {}, {int(state.range(0)), 2}, r);
+    reconstructor.tiled(f.epi, f.masks, {}, {int(state.range(0)), 2}, r);
     benchmark::DoNotOptimize(r.image.pixels.data());
   }, false);
   state.SetLabel("rows_per_band " + std::to_string(state.range(0)));
@@ -361,17 +328,37 @@ void SizesSerial(benchmark::internal::Benchmark* b) {
   for (auto [w, h] : {std::pair{512, 512}, {1920, 1080}}) b->Args({w, h, 0});
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
+constexpr std::pair<int, int> kFilterSizes[] = {{512, 512}, {1920, 1080}, {3840, 2160}};
+void FilterArgs(benchmark::internal::Benchmark* b) {
+  const int kernels = 1 + int(simd::compiled_targets().size());
+  for (auto [w, h] : kFilterSizes)
+    for (int edges : {0, 1})
+      for (int k = 0; k < kernels; ++k)
+        for (int threads : {1, 2}) b->Args({w, h, k, threads, edges});
+  b->Unit(benchmark::kMillisecond)->UseManualTime();
+}
+// The oracle schedule, and the tiled stream with the best and the scalar target.
+void ReconstructArgs(benchmark::internal::Benchmark* b) {
+  const int scalar = int(simd::compiled_targets().size());
+  for (auto [w, h] : kFilterSizes)
+    for (int edges : {0, 1}) {
+      b->Args({w, h, 0, 1, edges});
+      for (int k : {1, scalar})
+        for (int threads : {1, 2}) b->Args({w, h, k, threads, edges});
+    }
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
+void SizesAll(benchmark::internal::Benchmark* b) {
+  for (auto [w, h] : kFilterSizes) b->Args({w, h, 0});
+  b->Unit(benchmark::kMillisecond)->UseRealTime();
+}
 
-BENCHMARK(BM_StreamingFloor)->Apply(SizesSerial);
+BENCHMARK(BM_StreamingFloor)->Apply(SizesAll);
 BENCHMARK(BM_Rasterize)->Apply(Sizes);
-BENCHMARK(BM_Classify)->Apply(Sizes);
-BENCHMARK(BM_Reachability)->Apply(Sizes);
-BENCHMARK(BM_Interpolate)->Apply(Sizes);
-BENCHMARK(BM_Fill)->Apply(Sizes);
-BENCHMARK(BM_AntiAlias)->Apply(Sizes);
-BENCHMARK(BM_Complex)->Apply(Sizes);
-BENCHMARK(BM_RenderCache)->Apply(Sizes);
-BENCHMARK(BM_Reconstruct)->Apply(Sizes);
+BENCHMARK(BM_Filters)->Apply(FilterArgs);
+BENCHMARK(BM_Reconstruct)->Apply(ReconstructArgs);
+BENCHMARK(BM_ReachReuse)->Args({1920, 1080, 0})->Args({1920, 1080, 1})->Args({3840, 2160, 0})->Args({3840, 2160, 1})
+    ->Unit(benchmark::kMillisecond)->UseManualTime();
 BENCHMARK(BM_ReconstructBandRows)->Arg(4)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_LayoutAoS)->Apply(SizesSerial);
 BENCHMARK(BM_LayoutSoA)->Apply(SizesSerial);

@@ -56,7 +56,7 @@ const std::array<Step, 48>& steps7() {
 
 // type_at(px, py) is called for pixels inside the image only. `record`, when not nullptr, is
 // called with every propagation step (the visualizer's trace; the fast path compiles without it).
-template <bool kForwardOnly, typename TypeAt, typename Record = std::nullptr_t>
+template <typename TypeAt, typename Record = std::nullptr_t>
 uint32_t reach(TypeAt type_at, int width, int height, int x, int y, Record record = nullptr) {
   const EpiTables& t = epi_tables();
   uint8_t types[25];
@@ -70,12 +70,10 @@ uint32_t reach(TypeAt type_at, int width, int height, int x, int y, Record recor
       any |= type;
     }
   // Fast path: a 5x5 of empty pixels reaches everything.
-  if (any == kTypeEmpty) return kForwardOnly ? kForwardBits : 0xffffffu;
+  if (any == kTypeEmpty) return 0xffffffu;
   uint8_t masks[25] = {};
   uint32_t result = 0;
   for (const Step& s : steps()) {
-    if constexpr (kForwardOnly)
-      if (!((kForwardBits >> reach_bit(s.dx, s.dy)) & 1)) continue;
     uint8_t m = 0;
     [[maybe_unused]] ReachStep traced{s.dx, s.dy, 0, {}, {}, {}, types[s.index], {}, {}, {}, 0};
     for (int k = 0; k < 2 && s.pred[k] >= 0; ++k) {
@@ -98,19 +96,16 @@ uint32_t reach(TypeAt type_at, int width, int height, int x, int y, Record recor
 }  // namespace
 
 uint32_t reach_full(const EpiImage& epi, int x, int y) {
-  return reach<false>([&](int px, int py) { return pixel_type(epi.cache[epi.index(px, py)]); }, epi.width,
+  return reach([&](int px, int py) { return pixel_type(epi.cache[epi.index(px, py)]); }, epi.width,
                       epi.height, x, y);
 }
 uint32_t reach_full(TypeRows p, int x, int y) {
-  return reach<false>([p](int px, int py) { return p.at(px, py); }, p.width, p.height, x, y);
+  return reach([p](int px, int py) { return p.at(px, py); }, p.width, p.height, x, y);
 }
 uint32_t reach_full_traced(TypeRows p, int x, int y, std::vector<ReachStep>& steps) {
   steps.clear();
-  return reach<false>([p](int px, int py) { return p.at(px, py); }, p.width, p.height, x, y,
-                      [&steps](const ReachStep& s) { steps.push_back(s); });
-}
-uint32_t reach_forward(TypeRows p, int x, int y) {
-  return reach<true>([p](int px, int py) { return p.at(px, py); }, p.width, p.height, x, y);
+  return reach([p](int px, int py) { return p.at(px, py); }, p.width, p.height, x, y,
+               [&steps](const ReachStep& s) { steps.push_back(s); });
 }
 
 uint64_t reach_window7(TypeRows p, int x, int y) {
@@ -139,42 +134,6 @@ uint64_t reach_window7(TypeRows p, int x, int y) {
     if (m & kReachPP) result |= uint64_t(1) << s.index;
   }
   return result;
-}
-
-uint32_t reach_from_symmetry(const uint32_t* above1, const uint32_t* above2, int x, int width) {
-  uint32_t result = 0;
-  for (int dy = -2; dy <= -1; ++dy) {
-    const uint32_t* row = dy == -1 ? above1 : above2;
-    if (!row) continue;
-    for (int dx = -2; dx <= 2; ++dx) {
-      const int px = x + dx;
-      if (px < 0 || px >= width) continue;
-      if ((row[px] >> reach_bit(-dx, -dy)) & 1) result |= 1u << reach_bit(dx, dy);
-    }
-  }
-  return result;
-}
-
-void reach_row(TypeRows p, int y, const uint32_t* above1, const uint32_t* above2, uint32_t* out,
-               uint8_t* scratch) {
-  const int w = p.width;
-  // scratch[x + 2]: column x has a non-empty pixel (or one outside the image) in rows y-2..y+2.
-  const bool rows_inside = y >= 2 && y + 2 < p.height;
-  scratch[0] = scratch[1] = scratch[w + 2] = scratch[w + 3] = 1;
-  if (rows_inside) {
-    const uint8_t* rows[5] = {p.row(y - 2), p.row(y - 1), p.row(y), p.row(y + 1), p.row(y + 2)};
-    for (int x = 0; x < w; ++x) scratch[x + 2] = uint8_t((rows[0][x] | rows[1][x] | rows[2][x] | rows[3][x] | rows[4][x]) != 0);
-  } else {
-    for (int x = 0; x < w; ++x) scratch[x + 2] = 1;
-  }
-  int window = scratch[0] + scratch[1] + scratch[2] + scratch[3];  // columns x-2..x+1 for x = 0
-  for (int x = 0; x < w; ++x) {
-    window += scratch[x + 4];  // column x+2 enters
-    if (window == 0) out[x] = 0xffffffu;
-    else if (!above1) out[x] = reach_full(p, x, y);
-    else out[x] = reach_forward(p, x, y) | reach_from_symmetry(above1, above2, x, w);
-    window -= scratch[x];  // column x-2 leaves
-  }
 }
 
 }  // namespace epi

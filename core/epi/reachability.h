@@ -19,18 +19,9 @@ constexpr int reach_bit(int dx, int dy) {
   const int index = (dy + 2) * 5 + (dx + 2);
   return index < 12 ? index : index - 1;
 }
-// Offsets of later rows (dy > 0, or dy == 0 and dx > 0): the "forward" half.
-constexpr bool is_forward(int dx, int dy) { return dy > 0 || (dy == 0 && dx > 0); }
-constexpr uint32_t kForwardBits = [] {
-  uint32_t m = 0;
-  for (int dy = -2; dy <= 2; ++dy)
-    for (int dx = -2; dx <= 2; ++dx)
-      if ((dx || dy) && (is_forward(dx, dy) || (dy == 0 && dx < 0))) m |= 1u << reach_bit(dx, dy);
-  return m;
-}();
-
-// All 24 offsets, computed directly (the oracle). The EpiImage form reads the cache plane, the
-// TypeRows forms rows y-2..y+2 (y-3..y+3 for reach_window7) of a type view (rows.h).
+// All 24 offsets, computed directly (the oracle; the vector kernel in simd/ reuses the rows
+// above by symmetry, docs/epi.md). The EpiImage form reads the cache plane, the TypeRows form
+// rows y-2..y+2 (y-3..y+3 for reach_window7) of a type view (rows.h).
 uint32_t reach_full(const EpiImage& epi, int x, int y);
 uint32_t reach_full(TypeRows types, int x, int y);
 // One propagation step of reach_full, as the visualizer's trace (trace.h) records it: offset
@@ -45,25 +36,11 @@ struct ReachStep {
 };
 // reach_full, recording its steps in propagation order (none on the all-empty fast path).
 uint32_t reach_full_traced(TypeRows types, int x, int y, std::vector<ReachStep>& steps);
-// The forward half and the two offsets to the left, (-1,0) and (-2,0); the rest of the mask
-// comes from symmetry (see reach_from_symmetry).
-uint32_t reach_forward(TypeRows types, int x, int y);
 // Reachability over the 7x7 window by the same monotone paths (offsets up to 3 in x and y),
 // for the fallback of pixels that reach no sample in their 5x5: bit (dy + 3) * 7 + (dx + 3),
 // the centre (bit 24) included. Its inner 5x5 equals reach_full.
 constexpr uint64_t kWindow7All = (uint64_t(1) << 49) - 1;
 constexpr int window7_bit(int dx, int dy) { return (dy + 3) * 7 + (dx + 3); }
 uint64_t reach_window7(TypeRows types, int x, int y);
-// Bits for offsets (dx, dy < 0) taken from the masks of the two rows above: bit (dx, dy) of
-// pixel p equals bit (-dx, -dy) of pixel p + (dx, dy). `above1`/`above2` are those rows' masks
-// (nullptr outside the image).
-uint32_t reach_from_symmetry(const uint32_t* above1, const uint32_t* above2, int x, int width);
-
-// One row of masks for the tiled reconstructor: windows of empty pixels take the fast result
-// directly (found with a sliding window over the row), the others reach_full (when above1 is
-// nullptr) or reach_forward + symmetry. Equal to reach_full pixel by pixel.
-// `scratch` needs width + 4 bytes.
-void reach_row(TypeRows types, int y, const uint32_t* above1, const uint32_t* above2, uint32_t* out,
-               uint8_t* scratch);
 
 }  // namespace epi

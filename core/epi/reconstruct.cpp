@@ -1,10 +1,14 @@
 #include "epi/reconstruct.h"
 
 #include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
 #include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -16,6 +20,8 @@
 #include "epi/interpolate.h"
 #include "epi/reachability.h"
 #include "epi/rendercache.h"
+#include "epi/tables.h"
+#include "simd/row_kernels.h"
 
 namespace epi {
 
@@ -28,18 +34,6 @@ void check_sizes(const EpiImage& epi, const BoundaryMasks& masks) {
 
 bool use_complex_filter(const ReconstructSettings& s, const BoundaryMasks& masks) {
   return s.filter == Filter::epi && s.complex_filter && masks.centre_lines;
-}
-
-// The final colour of pixel (x, y) from the filled rows around it.
-void output_pixel(const EpiRows& epi, const BoundaryMasks& masks, const ReconstructSettings& s, int x, int y,
-                  const float* const rows[3], float out[3]) {
-  const float* own = rows[1] + 3 * x;
-  if (s.filter == Filter::epi) {
-    const int type = epi.type_at(x, y);
-    if (type == kTypeComplex && use_complex_filter(s, masks)) return complex_pixel(epi, masks, x, y, own, out);
-    if (s.antialias && type_is_simple(type)) return antialias_pixel(epi, x, y, rows, out);
-  }
-  out[0] = own[0], out[1] = own[1], out[2] = own[2];
 }
 
 float interpolate(const EpiRows& epi, const ReconstructSettings& s, int x, int y, uint32_t reach, float rgb[3],
@@ -58,175 +52,421 @@ void fill(const ReconstructSettings& s, int x, int width, uint32_t reach, const 
   out[0] = own[0], out[1] = own[1], out[2] = own[2];
 }
 
-// The row stream of reconstruct_tiled: the row each stage produces lags the classified row by
-// its lag; the footprint (rows around its own) fixes the lag (docs/epi.md, "Schedule").
-//   stage            lag  footprint
-//   classification   0    0: masks, input edge words (sample bits)
-//   reach + interp   3    +-3: types, classified edge words (5x5 reach, 7x7 fallback)
-//   fill             5    +-2: interpolated colours and found flags; own reach mask
-//   output           6    +-1: filled colours, edge words (complex filter); own type, edge code
-constexpr int kInterpLag = 3, kFillLag = 5, kOutputLag = 6;
-constexpr int kHalo = kOutputLag;  // classified rows a band needs beyond its own, above and below
-// Rings, indexed row & (size - 1): each holds the rows live at once.
-constexpr int kClassRing = 8;   // edge words and types: rows y-7 (output's top) .. y
-constexpr int kReachRing = 4;   // reach masks: fill's row (interp - 2) .. interp
-constexpr int kInterpRing = 8;  // interpolated colours and found flags: interp - 4 .. interp
-constexpr int kFillRing = 4;    // filled colours: output - 1 .. output + 1
-static_assert(kClassRing >= kOutputLag + 2 && kInterpRing >= kFillLag - kInterpLag + 3 &&
-              kReachRing >= kFillLag - kInterpLag + 1 && kFillRing >= 3);
 
-// One thread's rings (reused across its bands).
-struct Rings {
-  explicit Rings(int w)
-      : edge(size_t(w) * kClassRing), types(size_t(w) * kClassRing), reach(size_t(w) * kReachRing),
-        found(size_t(w) * kInterpRing), interp(size_t(w) * 3 * kInterpRing), filled(size_t(w) * 3 * kFillRing),
-        scratch(size_t(w) + 4) {}
-  std::vector<uint16_t> edge;
-  std::vector<uint8_t> types;
-  std::vector<uint32_t> reach;
-  std::vector<uint8_t> found;
-  std::vector<float> interp, filled;
-  std::vector<uint8_t> scratch;
+// A plane's rows: row y at slot y & mask (kWholeImage: whole-image planes; 2^k - 1: a ring).
+template <typename T>
+struct RowPlane {
+  T* data = nullptr;
+  size_t stride = 0;  // elements per row
+  int mask = kWholeImage;
+  T* row(int y) const { return data + size_t(y & mask) * stride; }
 };
+
+// A decoded row (Plane::samples): five padded planes (simd::InterpolateRow) of red, green,
+// blue, usable and sampled, each with kPad zeros on the left and a vector's worth on the right.
+size_t samples_plane(int w) { return size_t(w) + 2 * simd::kPad + 64; }
+size_t samples_stride(int w) { return 5 * samples_plane(w); }
+
+constexpr uint32_t kOutsideSides = kSideBlocked | kSideNonEmpty;
+
+// The tables the vector kernels gather from, widened to 32 bits.
+struct WideTables {
+  uint32_t area[1024], area_and_secondary[1024];
+};
+const WideTables& wide_tables() {
+  static const WideTables tables = [] {
+    const EpiTables& t = epi_tables();
+    WideTables w{};
+    for (int k = 0; k < 1024; ++k) w.area[k] = t.area_a[k], w.area_and_secondary[k] = t.area_a[k] | uint32_t(t.secondary_neighbour[k]) << 16;
+    return w;
+  }();
+  return tables;
+}
+
+// Storage for a set of planes: whole-image (rows = height) or rings (rows per plane from stages.h).
+struct PlaneStore {
+  std::vector<uint16_t> edge;
+  std::vector<uint8_t> types, found;
+  std::vector<uint32_t> reach;
+  std::vector<float> interp, filled, samples, zero_samples;
+  std::vector<uint32_t> sides, outside_sides;
+  int width = -1, rows_of_class = 0, rows_of_reach = 0, rows_of_interp = 0, rows_of_filled = 0;
+  void resize(int w, int class_rows, int reach_rows, int interp_rows, int filled_rows) {
+    if (w == width && class_rows == rows_of_class && reach_rows == rows_of_reach && interp_rows == rows_of_interp &&
+        filled_rows == rows_of_filled)
+      return;
+    width = w, rows_of_class = class_rows, rows_of_reach = reach_rows, rows_of_interp = interp_rows, rows_of_filled = filled_rows;
+    const size_t n = size_t(w);
+    edge.assign(n * size_t(class_rows), 0), types.assign(n * size_t(class_rows), 0);
+    reach.assign(samples_plane(w) * size_t(reach_rows), 0);  // padded: zeros outside the image
+    // Padded like the decoded rows: zeros outside the image (the fill kernel reads the 5x5).
+    found.assign(samples_plane(w) * size_t(interp_rows), 0), interp.assign(3 * samples_plane(w) * size_t(interp_rows), 0.0f);
+    filled.assign(3 * n * size_t(filled_rows), 0.0f);
+    samples.assign(samples_stride(w) * size_t(class_rows), 0.0f), zero_samples.assign(samples_stride(w), 0.0f);
+    // Pads and rows outside the image read as outside (blocked); decoding writes only the pixels.
+    sides.assign(samples_plane(w) * size_t(class_rows), kOutsideSides);
+    outside_sides.assign(samples_plane(w), kOutsideSides);
+  }
+};
+
+// Everything a row kernel reads and writes.
+struct RowJob {
+  const EpiImage& in;
+  const BoundaryMasks& masks;
+  const ReconstructSettings& settings;
+  const simd::RowKernels* kernels;  // nullptr: the per-pixel oracle functions
+  Reconstruction& out;
+  int width, height;
+  RowPlane<uint16_t> edge;
+  RowPlane<uint8_t> types, found;
+  RowPlane<uint32_t> reach;
+  RowPlane<float> interp, filled, image, samples;
+  RowPlane<uint32_t> sides;
+  // Rows written to `out` (edge words, cache words, priority; the image rows are the only ones
+  // the output stages compute); other rows are halo, recomputed by the neighbouring band.
+  int own_first, own_last;
+  ClassCounts* counts;            // of owned rows
+  float* priority_scratch;        // priority of halo rows (discarded), width floats
+  float* total_scratch;           // width floats (the interpolation kernel's weights)
+  const float* zero_samples;      // a decoded row of zeros (rows outside the image)
+  const uint32_t* outside_sides;  // a row of side words outside the image
+  int stage_first = 0;            // first row of this stage in the current run (reach reuse)
+  bool reuse_reach = false;       // reach may take the rows above by symmetry (not in the oracle)
+
+  bool owned(int y) const { return y >= own_first && y <= own_last; }
+  bool inside(int y) const { return y >= 0 && y < height; }
+  EpiRows rows() const { return {edge.data, types.data, in.color.data(), width, height, edge.mask}; }
+};
+
+void classify_stage(RowJob& j, int y) {
+  const size_t i0 = size_t(y) * size_t(j.width);
+  uint16_t* edge = j.edge.row(y);
+  uint8_t* types = j.types.row(y);
+  ClassCounts halo;
+  ClassCounts& counts = j.owned(y) ? *j.counts : halo;
+  if (j.kernels) {
+    const WideTables& t = wide_tables();
+    simd::ClassifyRow row{j.width, &j.masks.top[j.masks.index(0, y)], &j.masks.top[j.masks.index(0, y + 1)],
+                          &j.masks.left[j.masks.index(0, y)], &j.in.edge[i0], epi_tables().sidedness, t.area, edge,
+                          types, {}};
+    j.kernels->classify(row);
+    counts.empty += row.counts[0], counts.simple += row.counts[1], counts.complex += row.counts[2];
+    counts.samples += row.counts[3], counts.ambiguous += row.counts[4];
+  } else {
+    classify_row(j.masks, y, &j.in.edge[i0], edge, types, counts);
+  }
+  if (!j.owned(y)) return;
+  if (edge != &j.out.edge[i0]) std::memcpy(&j.out.edge[i0], edge, size_t(j.width) * sizeof(uint16_t));
+  uint32_t* cache = &j.out.cache[i0];
+  for (int x = 0; x < j.width; ++x) cache[x] = uint32_t(types[x]) << bits::kTypeShift;
+}
+
+bool vector_kernels(const RowJob& j) { return j.kernels && j.settings.filter == Filter::epi; }
+
+void decode_stage(RowJob& j, int y) {
+  if (!vector_kernels(j)) return;
+  const size_t plane = samples_plane(j.width);
+  float* red = j.samples.row(y) + simd::kPad;
+  j.kernels->decode({j.width, j.edge.row(y), j.types.row(y), &j.in.color[size_t(y) * size_t(j.width)],
+                     srgb8_to_linear().data(), side_descriptors().word, red, red + plane, red + 2 * plane, red + 3 * plane,
+                     red + 4 * plane, j.sides.row(y) + simd::kPad});
+}
+
+void reachability_stage(RowJob& j, int y) {
+  uint32_t* reach = j.reach.row(y);
+  if (j.settings.filter != Filter::epi) {
+    std::memset(reach, 0, size_t(j.width) * sizeof(uint32_t));
+    return;
+  }
+  const TypeRows types{j.types.data, j.width, j.height, j.types.mask};
+  if (j.kernels) {
+    const SideDescriptors& tables = side_descriptors();
+    simd::ReachRow row{j.width, {}, tables.relation_lo, tables.relation_hi, reach, {}};
+    for (int k = 0; k < 5; ++k) row.sides[k] = j.inside(y - 2 + k) ? j.sides.row(y - 2 + k) : j.outside_sides;
+    if (j.reuse_reach && y - 2 >= j.stage_first) row.above[0] = j.reach.row(y - 1), row.above[1] = j.reach.row(y - 2);
+    j.kernels->reachability(row);
+  } else {
+    for (int x = 0; x < j.width; ++x) reach[x] = reach_full(types, x, y);
+  }
+  if (j.owned(y)) {
+    uint32_t* cache = &j.out.cache[size_t(y) * size_t(j.width)];
+    for (int x = 0; x < j.width; ++x) cache[x] |= reach[x];
+  }
+}
+
+void interpolate_stage(RowJob& j, int y) {
+  const EpiRows rows = j.rows();
+  const uint32_t* reach = j.reach.row(y);
+  float* colors = j.interp.row(y);
+  uint8_t* found = j.found.row(y);
+  float* priority = j.owned(y) ? &j.out.priority[size_t(y) * size_t(j.width)] : j.priority_scratch;
+  if (!vector_kernels(j)) {
+    for (int x = 0; x < j.width; ++x) priority[x] = interpolate(rows, j.settings, x, y, reach[x], colors + 3 * x, found + x);
+    return;
+  }
+  simd::InterpolateRow row{};
+  const size_t plane = samples_plane(j.width);
+  for (int k = 0; k < 5; ++k) {
+    const float* base = j.inside(y - 2 + k) ? j.samples.row(y - 2 + k) : j.zero_samples;
+    row.red[k] = base, row.green[k] = base + plane, row.blue[k] = base + 2 * plane;
+    row.usable[k] = base + 3 * plane, row.sampled[k] = base + 4 * plane;
+  }
+  row.width = j.width, row.types = j.types.row(y), row.reach = reach;
+  row.color = &j.in.color[size_t(y) * size_t(j.width)];
+  row.rgb = colors, row.total = j.total_scratch, row.priority = priority;
+  j.kernels->interpolate(row);
+  for (int x = 0; x < j.width; ++x) {  // pixels that reached nothing: the oracle's fallback
+    found[x] = j.total_scratch[x] > 0;
+    if (!found[x]) {
+      fallback_color(rows, x, y, colors + 3 * x);
+      priority[x] = kMaxPriority;
+    }
+  }
+}
+
+void fill_stage(RowJob& j, int y) {
+  const float* interp_rows[5];
+  const uint8_t* found_rows[5];
+  for (int k = 0; k < 5; ++k) {
+    interp_rows[k] = j.inside(y - 2 + k) ? j.interp.row(y - 2 + k) : nullptr;
+    found_rows[k] = j.inside(y - 2 + k) ? j.found.row(y - 2 + k) : nullptr;
+  }
+  const uint32_t* reach = j.reach.row(y);
+  float* out = j.filled.row(y);
+  if (vector_kernels(j) && j.settings.fill) {
+    simd::FillRow row{j.width, {}, {}, reach, out};
+    const float* zeros = j.zero_samples + 3 * simd::kPad;  // a zero row, padding included
+    for (int k = 0; k < 5; ++k) {
+      row.rows[k] = interp_rows[k] ? interp_rows[k] : zeros;
+      row.found[k] = found_rows[k] ? found_rows[k] : reinterpret_cast<const uint8_t*>(zeros);
+    }
+    j.kernels->fill(row);
+    return;
+  }
+  for (int x = 0; x < j.width; ++x) fill(j.settings, x, j.width, reach[x], interp_rows, found_rows, out + 3 * x);
+}
+
+void antialias_stage(RowJob& j, int y) {
+  const float* rows[3] = {j.inside(y - 1) ? j.filled.row(y - 1) : nullptr, j.filled.row(y),
+                          j.inside(y + 1) ? j.filled.row(y + 1) : nullptr};
+  float* out = j.image.row(y);
+  const EpiRows epi = j.rows();
+  const uint8_t* types = j.types.row(y);
+  const bool on = j.settings.filter == Filter::epi && j.settings.antialias;
+  if (on && j.kernels) {
+    const WideTables& t = wide_tables();
+    j.kernels->antialias({j.width, {rows[0], rows[1], rows[2]}, types, j.edge.row(y), t.area_and_secondary, out});
+    return;
+  }
+  for (int x = 0; x < j.width; ++x) {
+    if (on && type_is_simple(types[x])) {
+      antialias_pixel(epi, x, y, rows, out + 3 * x);
+    } else {
+      const float* own = rows[1] + 3 * x;
+      out[3 * x] = own[0], out[3 * x + 1] = own[1], out[3 * x + 2] = own[2];
+    }
+  }
+}
+
+void complex_stage(RowJob& j, int y) {
+  if (!use_complex_filter(j.settings, j.masks)) return;
+  const EpiRows epi = j.rows();
+  const uint8_t* types = j.types.row(y);
+  const float* filled = j.filled.row(y);
+  float* out = j.image.row(y);
+  for (int x = 0; x < j.width; ++x)
+    if (types[x] == kTypeComplex) complex_pixel(epi, j.masks, x, y, filled + 3 * x, out + 3 * x);
+}
+
+// The row kernel of each stage, in the order of kStages.
+using StageRowFunction = void (*)(RowJob&, int);
+constexpr std::array<StageRowFunction, kStageCount> kStageRows = {
+    classify_stage, decode_stage, reachability_stage, interpolate_stage, fill_stage, antialias_stage, complex_stage};
+void run_stage_row(Stage s, RowJob& j, int y) { kStageRows[size_t(s)](j, y); }
+
+// Rings of one thread (reused across its bands and calls).
+struct ThreadScratch {
+  PlaneStore rings;
+  std::vector<float> priority, total;
+  void resize(int w) {
+    static_assert(ring_rows(Plane::samples) <= kClassRingRows, "decoded rows live in rings of the classified rows' size");
+    rings.resize(w, kClassRingRows, ring_rows(Plane::reach), ring_rows(Plane::interp), ring_rows(Plane::filled));
+    priority.resize(size_t(w)), total.resize(size_t(w));
+  }
+};
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+double thread_cpu_ms() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
+
+void prepare_output(const EpiImage& epi, const BoundaryMasks& masks, Reconstruction& r) {
+  check_sizes(epi, masks);
+  const int w = epi.width, h = epi.height;
+  const size_t n = size_t(w) * size_t(h);
+  if (r.image.width != w || r.image.height != h) r.image = RgbImage(w, h);
+  r.priority.resize(n), r.edge.resize(n), r.cache.resize(n);
+  r.counts = {};
+}
+
+void add_counts(ClassCounts& a, const ClassCounts& b) {
+  a.empty += b.empty, a.simple += b.simple, a.complex += b.complex, a.samples += b.samples, a.ambiguous += b.ambiguous;
+}
 
 }  // namespace
 
-Reconstruction reconstruct_oracle(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s) {
-  check_sizes(epi, masks);
-  const int w = epi.width, h = epi.height;
-  Reconstruction r{RgbImage(w, h), std::vector<float>(size_t(w) * size_t(h)), {}};
-  std::vector<uint8_t> types(size_t(w) * size_t(h));
-  r.counts = classify_rows(epi, masks, 0, h, types.data());
-  const EpiRows rows = whole_image_rows(epi, types.data());
-  if (s.filter == Filter::epi)
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) epi.cache[epi.index(x, y)] |= reach_full(epi, x, y);
-  RgbImage interpolated(w, h), filled(w, h);
-  std::vector<uint8_t> found(size_t(w) * size_t(h));
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      r.priority[epi.index(x, y)] = interpolate(rows, s, x, y, reach_mask(epi.cache[epi.index(x, y)]),
-                                                interpolated.at(x, y), &found[epi.index(x, y)]);
-  for (int y = 0; y < h; ++y) {
-    const float* interp_rows[5];
-    const uint8_t* found_rows[5];
-    for (int k = 0; k < 5; ++k) {
-      const int ry = y - 2 + k;
-      interp_rows[k] = ry >= 0 && ry < h ? interpolated.at(0, ry) : nullptr;
-      found_rows[k] = ry >= 0 && ry < h ? &found[epi.index(0, ry)] : nullptr;
+struct Reconstructor::Scratch {
+  PlaneStore whole;  // whole-image planes: oracle and staged (edge words go straight to the output)
+  std::vector<float> priority;
+  tbb::enumerable_thread_specific<ThreadScratch> threads;
+  std::unique_ptr<tbb::task_arena> arena;
+  int arena_threads = -1;
+  tbb::task_arena& arena_for(int n) {
+    if (!arena || arena_threads != n) {
+      arena = std::make_unique<tbb::task_arena>(n > 0 ? n : int(+tbb::task_arena::automatic));
+      arena_threads = n;
     }
-    for (int x = 0; x < w; ++x)
-      fill(s, x, w, reach_mask(epi.cache[epi.index(x, y)]), interp_rows, found_rows, filled.at(x, y));
+    return *arena;
   }
-  for (int y = 0; y < h; ++y) {
-    const float* filled_rows[3] = {y > 0 ? filled.at(0, y - 1) : nullptr, filled.at(0, y),
-                                   y + 1 < h ? filled.at(0, y + 1) : nullptr};
-    for (int x = 0; x < w; ++x) output_pixel(rows, masks, s, x, y, filled_rows, r.image.at(x, y));
-  }
+};
+
+Reconstructor::Reconstructor(KernelChoice choice)
+    : kernels_(choice.oracle ? nullptr : &simd::row_kernels(choice.target)), scratch_(std::make_unique<Scratch>()) {}
+Reconstructor::~Reconstructor() = default;
+
+const char* Reconstructor::kernel_name() const { return kernels_ ? kernels_->target_name : "oracle"; }
+
+namespace {
+
+// A RowJob over whole-image planes (rows = height): the oracle's and the staged schedule's.
+RowJob whole_image_job(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
+                       const simd::RowKernels* kernels, Reconstruction& r, PlaneStore& whole, ClassCounts* counts,
+                       float* priority_scratch, float* total_scratch) {
+  const int w = epi.width, h = epi.height;
+  const size_t n = size_t(w);
+  return RowJob{epi, masks, s, kernels, r, w, h,
+                {r.edge.data(), n}, {whole.types.data(), n}, {whole.found.data() + simd::kPad, samples_plane(w)},
+                {whole.reach.data() + simd::kPad, samples_plane(w)},
+                {whole.interp.data() + 3 * simd::kPad, 3 * samples_plane(w)}, {whole.filled.data(), 3 * n},
+                {r.image.pixels.data(), 3 * n},
+                {whole.samples.data(), samples_stride(w)}, {whole.sides.data(), samples_plane(w)}, 0, h - 1, counts,
+                priority_scratch, total_scratch, whole.zero_samples.data(), whole.outside_sides.data()};
+}
+
+}  // namespace
+
+void Reconstructor::oracle(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
+                           Reconstruction& r) {
+  prepare_output(epi, masks, r);
+  const int w = epi.width, h = epi.height;
+  scratch_->whole.resize(w, h, h, h, h);
+  RowJob job = whole_image_job(epi, masks, s, nullptr, r, scratch_->whole, &r.counts, nullptr, nullptr);
+  for (const StageInfo& stage : kStages)
+    for (int y = 0; y < h; ++y) run_stage_row(stage.stage, job, y);
+}
+
+void Reconstructor::staged(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
+                           Reconstruction& r, ReconstructTimes& times, const Schedule& schedule) {
+  prepare_output(epi, masks, r);
+  const int w = epi.width, h = epi.height;
+  scratch_->whole.resize(w, h, h, h, h);
+  tbb::combinable<ClassCounts> counts;
+  scratch_->arena_for(schedule.threads).execute([&] {
+    for (const StageInfo& stage : kStages) {
+      const auto t = Clock::now();
+      const double cpu = thread_cpu_ms();
+      tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& range) {
+        ThreadScratch& local = scratch_->threads.local();
+        local.resize(w);
+        RowJob job = whole_image_job(epi, masks, s, kernels_, r, scratch_->whole, &counts.local(), nullptr,
+                                     local.total.data());
+        job.stage_first = range.begin(), job.reuse_reach = schedule.reach_symmetry;
+        for (int y = range.begin(); y != range.end(); ++y) run_stage_row(stage.stage, job, y);
+      });
+      times[stage.stage] = ms_since(t);
+      times.cpu_ms[size_t(stage.stage)] = thread_cpu_ms() - cpu;
+    }
+  });
+  counts.combine_each([&](const ClassCounts& c) { add_counts(r.counts, c); });
+}
+
+void Reconstructor::tiled(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
+                          const Schedule& schedule, Reconstruction& r) {
+  prepare_output(epi, masks, r);
+  const int w = epi.width, h = epi.height;
+  if (w == 0 || h == 0) return;
+  const int band_rows = std::max(1, schedule.rows_per_band);
+  const int bands = (h + band_rows - 1) / band_rows;
+  std::vector<ClassCounts> band_counts(static_cast<size_t>(bands));
+
+  // Band b: rows stream through the stages, each lagging classification by its lag; only owned
+  // rows [y0, y1) are written to the output, halo rows are recomputed by each band that needs them.
+  auto run_band = [&](int b, ThreadScratch& local) {
+    const int y0 = b * band_rows, y1 = std::min(h, y0 + band_rows);
+    // The rows each stage computes: the output stages the band's own; each stage those its
+    // readers need (their rows widened by the footprint), within the image.
+    std::array<int, kStageCount> first{}, last{};
+    first.fill(h), last.fill(-1);
+    for (int k = kStageCount - 1; k >= 0; --k) {
+      const StageInfo& stage = kStages[size_t(k)];
+      if (stage.output == Plane::image) first[size_t(k)] = y0, last[size_t(k)] = y1 - 1;
+      if (first[size_t(k)] > last[size_t(k)]) continue;
+      for (int i = 0; i < stage.input_count; ++i) {
+        const StageInput& in = stage.inputs[size_t(i)];
+        const size_t p = size_t(producer(in.plane));
+        first[p] = std::min(first[p], std::max(0, first[size_t(k)] - in.radius));
+        last[p] = std::max(last[p], std::min(h - 1, last[size_t(k)] + in.radius));
+      }
+    }
+    PlaneStore& ring = local.rings;
+    const size_t n = size_t(w);
+    RowJob job{epi, masks, s, kernels_, r, w, h,
+               {ring.edge.data(), n, kClassRingRows - 1}, {ring.types.data(), n, kClassRingRows - 1},
+               {ring.found.data() + simd::kPad, samples_plane(w), ring_rows(Plane::interp) - 1},
+               {ring.reach.data() + simd::kPad, samples_plane(w), ring_rows(Plane::reach) - 1},
+               {ring.interp.data() + 3 * simd::kPad, 3 * samples_plane(w), ring_rows(Plane::interp) - 1}, {ring.filled.data(), 3 * n, ring_rows(Plane::filled) - 1},
+               {r.image.pixels.data(), 3 * n}, {ring.samples.data(), samples_stride(w), kClassRingRows - 1},
+               {ring.sides.data(), samples_plane(w), kClassRingRows - 1},
+               y0, y1 - 1, &band_counts[size_t(b)], local.priority.data(), local.total.data(),
+               ring.zero_samples.data(), ring.outside_sides.data()};
+    job.reuse_reach = schedule.reach_symmetry;
+    job.stage_first = first[size_t(Stage::reachability)];
+    const int classified_first = first[size_t(Stage::classify)];
+    for (int y = classified_first; y <= last[size_t(Stage::classify)] + kMaxLag; ++y)
+      for (const StageInfo& stage : kStages) {
+        const int row = y - stage_lag(stage.stage);
+        if (row >= first[size_t(stage.stage)] && row <= last[size_t(stage.stage)]) run_stage_row(stage.stage, job, row);
+      }
+  };
+  scratch_->arena_for(schedule.threads).execute([&] {
+    tbb::parallel_for(tbb::blocked_range<int>(0, bands, 1), [&](const tbb::blocked_range<int>& range) {
+      ThreadScratch& local = scratch_->threads.local();
+      local.resize(w);
+      for (int b = range.begin(); b != range.end(); ++b) run_band(b, local);
+    }, tbb::simple_partitioner());
+  });
+  for (const ClassCounts& c : band_counts) add_counts(r.counts, c);
+}
+
+Reconstruction reconstruct_oracle(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s) {
+  Reconstruction r;
+  Reconstructor(KernelChoice{true, 0}).oracle(epi, masks, s, r);
   return r;
 }
 
-Reconstruction reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
+Reconstruction reconstruct_tiled(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
                                  const Schedule& schedule) {
   Reconstruction r;
   reconstruct_tiled(epi, masks, s, schedule, r);
   return r;
 }
 
-void reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
-                       const Schedule& schedule, Reconstruction& r) {
-  check_sizes(epi, masks);
-  const int w = epi.width, h = epi.height;
-  if (r.image.width != w || r.image.height != h) r.image = RgbImage(w, h);
-  r.priority.resize(size_t(w) * size_t(h));
-  r.counts = {};
-  if (w == 0 || h == 0) return;
-  const int band_rows = std::max(1, schedule.rows_per_band);
-  const int bands = (h + band_rows - 1) / band_rows;
-  // Bands run in rounds, band b in round b % rounds: bands of one round lie at least
-  // kHalo rows apart, so none reads an edge word (its halo's input) that another writes back.
-  const int rounds = 1 + (kHalo + band_rows - 1) / band_rows;
-  std::vector<ClassCounts> band_counts(static_cast<size_t>(bands));
-  tbb::task_arena arena(schedule.threads > 0 ? schedule.threads : tbb::task_arena::automatic);
-  tbb::enumerable_thread_specific<Rings> thread_rings([w] { return Rings(w); });
-  auto inside = [h](int y) { return y >= 0 && y < h; };
-
-  // Band b: rows stream through classification -> reachability and interpolation -> fill ->
-  // output, each stage lagging classification by its kLag; only owned rows [y0, y1) are
-  // written back (EPI planes, priority, image), halo rows are recomputed.
-  auto run_band = [&](int b, Rings& ring) {
-    auto edge_row = [&](int y) { return &ring.edge[size_t(y & (kClassRing - 1)) * size_t(w)]; };
-    auto type_row = [&](int y) { return &ring.types[size_t(y & (kClassRing - 1)) * size_t(w)]; };
-    auto reach_row_ptr = [&](int y) { return &ring.reach[size_t(y & (kReachRing - 1)) * size_t(w)]; };
-    auto interp_row = [&](int y) { return &ring.interp[size_t(y & (kInterpRing - 1)) * size_t(w) * 3]; };
-    auto found_row = [&](int y) { return &ring.found[size_t(y & (kInterpRing - 1)) * size_t(w)]; };
-    auto fill_row = [&](int y) { return &ring.filled[size_t(y & (kFillRing - 1)) * size_t(w) * 3]; };
-    const EpiRows rows{ring.edge.data(), ring.types.data(), epi.color.data(), w, h, kClassRing - 1};
-    const int y0 = b * band_rows, y1 = std::min(h, y0 + band_rows);
-    auto owned = [&](int y) { return y >= y0 && y < y1; };
-    const int class_last = std::min(h - 1, y1 - 1 + kHalo);
-    const int interp_first = std::max(0, y0 - (kOutputLag - kInterpLag)), interp_last = std::min(h - 1, y1 - 1 + kOutputLag - kInterpLag);
-    const int fill_first = std::max(0, y0 - (kOutputLag - kFillLag)), fill_last = std::min(h - 1, y1 - 1 + kOutputLag - kFillLag);
-    ClassCounts halo_counts;
-    for (int y = std::max(0, y0 - kHalo); y < y1 + kOutputLag; ++y) {
-      if (y <= class_last) {  // classification of row y
-        const size_t i0 = epi.index(0, y);
-        uint16_t* edge = edge_row(y);
-        uint8_t* types = type_row(y);
-        classify_row(masks, y, &epi.edge[i0], edge, types, owned(y) ? band_counts[size_t(b)] : halo_counts);
-        if (owned(y))
-          for (int x = 0; x < w; ++x) epi.edge[i0 + size_t(x)] = edge[x], epi.cache[i0 + size_t(x)] = uint32_t(types[x]) << bits::kTypeShift;
-      }
-      const int iy = y - kInterpLag;  // reachability and interpolation of row iy
-      if (iy >= interp_first && iy <= interp_last) {
-        uint32_t* reach = reach_row_ptr(iy);
-        if (s.filter == Filter::epi) {  // rows after the band's first two reuse the rows above
-          const bool reuse = iy >= interp_first + 2;
-          reach_row(rows.type_rows(), iy, reuse ? reach_row_ptr(iy - 1) : nullptr,
-                    reuse ? reach_row_ptr(iy - 2) : nullptr, reach, ring.scratch.data());
-          if (owned(iy))
-            for (int x = 0; x < w; ++x) epi.cache[epi.index(x, iy)] |= reach[x];
-        }
-        float* colors = interp_row(iy);
-        uint8_t* found = found_row(iy);
-        for (int x = 0; x < w; ++x) {
-          const float p = interpolate(rows, s, x, iy, reach[x], colors + 3 * x, found + x);
-          if (owned(iy)) r.priority[epi.index(x, iy)] = p;
-        }
-      }
-      const int fy = y - kFillLag;  // fill of row fy
-      if (fy >= fill_first && fy <= fill_last) {
-        const float* interp_rows[5];
-        const uint8_t* found_rows[5];
-        for (int k = 0; k < 5; ++k) {
-          interp_rows[k] = inside(fy - 2 + k) ? interp_row(fy - 2 + k) : nullptr;
-          found_rows[k] = inside(fy - 2 + k) ? found_row(fy - 2 + k) : nullptr;
-        }
-        const uint32_t* reach = reach_row_ptr(fy);
-        float* out = fill_row(fy);
-        for (int x = 0; x < w; ++x) fill(s, x, w, reach[x], interp_rows, found_rows, out + 3 * x);
-      }
-      const int oy = y - kOutputLag;  // output of row oy
-      if (owned(oy)) {
-        const float* filled_rows[3] = {inside(oy - 1) ? fill_row(oy - 1) : nullptr, fill_row(oy),
-                                       inside(oy + 1) ? fill_row(oy + 1) : nullptr};
-        for (int x = 0; x < w; ++x) output_pixel(rows, masks, s, x, oy, filled_rows, r.image.at(x, oy));
-      }
-    }
-  };
-  arena.execute([&] {
-    for (int round = 0; round < rounds; ++round) {
-      const int count = (bands - round + rounds - 1) / rounds;
-      tbb::parallel_for(tbb::blocked_range<int>(0, count, 1), [&](const tbb::blocked_range<int>& range) {
-        Rings& ring = thread_rings.local();
-        for (int k = range.begin(); k != range.end(); ++k) run_band(round + k * rounds, ring);
-      }, tbb::simple_partitioner());
-    }
-  });
-  for (const ClassCounts& c : band_counts) {
-    r.counts.empty += c.empty, r.counts.simple += c.simple, r.counts.complex += c.complex;
-    r.counts.samples += c.samples, r.counts.ambiguous += c.ambiguous;
-  }
+void reconstruct_tiled(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
+                       const Schedule& schedule, Reconstruction& out) {
+  Reconstructor().tiled(epi, masks, s, schedule, out);
 }
 
 }  // namespace epi

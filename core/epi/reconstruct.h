@@ -1,21 +1,26 @@
-// Reconstruction of an image from the EPI: the stages, the plain whole-image oracle and the
-// tiled TBB-parallel version that must match it bit for bit.
+// Reconstruction of an image from the EPI: the stage table (stages.h) run by three schedules
+// that agree bit for bit: the plain whole-image oracle, the timed stage-by-stage path and the
+// tiled TBB-parallel row stream.
 //
 //   stage            file                footprint (pixels)          reads                  writes
 //   classification   classify.cpp        1x1                         masks, sample          edge code, usable, type
 //   reachability     reachability.cpp    5x5                         types                  24-bit reach mask
 //   interpolation    interpolate.cpp     5x5 (7x7 fallback)          reach, samples         primary colour, found, priority
 //   fill             fill.cpp            5x5                         reach, primary, found  primary colour where none found
-//   render cache     rendercache.cpp     3x3 (7x7 prefilter)         samples                colour, priority
+//   render cache     rendercache.cpp     3x3 (7x7 prefilter)         samples                colour, priority (replaces interpolation)
 //   anti-aliasing    antialias.cpp       3x3                         primary colours        output colour
 //   complex pixels   complex_filter.cpp  3x3 (6x6 sub-pixels)        masks, samples, own    output colour
 #pragma once
 
+#include <array>
+#include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "epi/classify.h"
 #include "epi/epi_pixel.h"
 #include "epi/rasterize.h"
+#include "epi/stages.h"
 #include "image/image.h"
 
 namespace epi {
@@ -33,21 +38,85 @@ struct ReconstructSettings {
 struct Schedule {
   int rows_per_band = 64;  // rows per parallel task (BM_ReconstructBandRows)
   int threads = 0;         // 0: all cores
+  // Reachability takes the 10 offsets towards the two rows above from those rows' masks
+  // (symmetry) wherever the schedule has them (docs/epi.md); false: all 24 computed (the bench's
+  // measure of what the reuse saves).
+  bool reach_symmetry = true;
 };
 
 struct Reconstruction {
   RgbImage image;               // linear RGB
   std::vector<float> priority;  // sampling priority, one per pixel (interpolate.h)
+  // The classified EPI (the input is never written): edge words with their codes and usable
+  // bits (sample bits as in the input), and cache words with the type and reach mask (epi_pixel.h).
+  std::vector<uint16_t> edge;
+  std::vector<uint32_t> cache;
   ClassCounts counts;
 };
 
-// Both classify `epi` in place (edge codes, usable bits, types, reachability masks).
-Reconstruction reconstruct_oracle(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings);
-Reconstruction reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings,
+// Wall time of each stage of Reconstructor::staged, ms; cpu_ms: the calling thread's CPU time
+// in each stage (all of the stage's work when it runs on one thread; robust on a loaded machine).
+struct ReconstructTimes {
+  std::array<double, kStageCount> ms{};
+  std::array<double, kStageCount> cpu_ms{};
+  double& operator[](Stage s) { return ms[size_t(s)]; }
+  double operator[](Stage s) const { return ms[size_t(s)]; }
+  // The time of a reported series (stages.h, reported_as): its stages summed.
+  double reported(Stage series) const {
+    double t = 0;
+    for (const StageInfo& i : kStages)
+      if (reported_as(i.stage) == series) t += ms[size_t(i.stage)];
+    return t;
+  }
+};
+
+namespace simd {
+struct RowKernels;
+}
+
+// Which row kernels the fast schedules (tiled, staged) run: the per-pixel oracle functions,
+// or the Highway kernels (simd/) of one target: 0 the best this CPU runs, else a single
+// HWY_* target bit (it must be compiled and supported: simd::compiled_targets()).
+struct KernelChoice {
+  bool oracle = false;
+  int64_t target = 0;
+};
+
+// Owns the scratch of all three schedules (whole-image planes, one set of rings per thread,
+// the thread arena), allocated on first use and reused while the size stays; the kernels are
+// chosen once, at construction. One call at a time.
+class Reconstructor {
+ public:
+  explicit Reconstructor(KernelChoice kernels = {});
+  ~Reconstructor();
+  Reconstructor(const Reconstructor&) = delete;
+  Reconstructor& operator=(const Reconstructor&) = delete;
+
+  // The plain oracle: each stage over the whole image in turn, one thread, the per-pixel
+  // functions of each stage (whatever the kernel choice).
+  void oracle(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings,
+              Reconstruction& out);
+  // Each stage over the whole image in turn, rows in parallel (chunks of 8 rows), each stage
+  // timed; schedule.rows_per_band is not used.
+  void staged(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings,
+              Reconstruction& out, ReconstructTimes& times, const Schedule& schedule = {});
+  // Bands of rows in parallel, rows streamed through all stages (docs/epi.md, "Schedule").
+  void tiled(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings,
+             const Schedule& schedule, Reconstruction& out);
+
+  const char* kernel_name() const;  // "oracle" or the Highway target's name
+
+ private:
+  struct Scratch;
+  const simd::RowKernels* kernels_;  // nullptr: the per-pixel oracle functions
+  std::unique_ptr<Scratch> scratch_;
+};
+
+// One-off conveniences (a Reconstructor per call: its scratch is allocated each time).
+Reconstruction reconstruct_oracle(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings);
+Reconstruction reconstruct_tiled(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings,
                                  const Schedule& schedule = {});
-// The same into `out`, whose buffers are reused when they have the right size (no per-frame
-// allocation and clearing of 16 bytes per pixel).
-void reconstruct_tiled(EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings,
+void reconstruct_tiled(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& settings,
                        const Schedule& schedule, Reconstruction& out);
 
 }  // namespace epi

@@ -18,6 +18,11 @@ void decode_simple_type(int type, int& side_low, int& side_high, bool& primary_i
   primary_is_b = (type - 2) & 1;
 }
 
+// Two pieces of a shared side, each given as the part of its pixel's side (0 whole, 1 before
+// the crossing, 2 after), touch: the two sides run in opposite directions along the shared line,
+// so a's part after the crossing faces b's part before it.
+bool parts_touch(int part_a, int part_b) { return part_a == 0 || part_b == 0 || part_a != part_b; }
+
 uint8_t neighbour_mask(int dir, int type_a, int type_b) {
   const int side_a = dir == kRight ? 1 : dir == kDown ? 2 : dir == kLeft ? 3 : 0;
   const int side_b = (side_a + 2) % 4;
@@ -27,10 +32,7 @@ uint8_t neighbour_mask(int dir, int type_a, int type_b) {
   uint8_t mask = 0;
   for (int i = 0; i < na; ++i)
     for (int j = 0; j < nb; ++j) {
-      // The two sides run in opposite directions along the shared line, so a's part after the
-      // crossing faces b's part before it.
-      const bool overlap = pa[i] == 0 || pb[j] == 0 || pa[i] != pb[j];
-      if (overlap) mask |= uint8_t(1u << (ra[i] * 2 + rb[j]));
+      if (parts_touch(pa[i], pb[j])) mask |= uint8_t(1u << (ra[i] * 2 + rb[j]));
     }
   return mask;
 }
@@ -101,6 +103,44 @@ EpiTables generate_tables() {
       for (int b = 0; b < 16; ++b) t.neighbour[dir][(a << 4) | b] = neighbour_mask(dir, a, b);
   for (int m = 0; m < 256; ++m) t.chain[m] = chain_mask(m >> 4, m & 15);
   return t;
+}
+
+// Side words (simd::ReachRow) by pixel type, and the relation of side descriptors, both from
+// the same regions_on_side that generates the oracle's neighbour table (tables.cpp).
+const SideDescriptors& side_descriptors() {
+  static const SideDescriptors tables = [] {
+    SideDescriptors t{};
+    for (int type = 0; type < 16; ++type) {
+      uint32_t word = type == kTypeEmpty ? 0 : kSideNonEmpty;
+      for (int side = 0; side < 4; ++side) {
+        int regions[2], parts[2];
+        const int n = regions_on_side(type, side, regions, parts);
+        if (n == 0) word |= kSideBlocked;  // complex (and the unused types)
+        const uint32_t descriptor = n == 2 ? (parts[regions[0] == 0 ? 0 : 1] == 1 ? 2u : 3u) : n == 1 ? uint32_t(regions[0]) : 0u;
+        word |= descriptor << (2 * side);
+      }
+      t.word[type] = word;
+    }
+    // Descriptor d as (region, part) pairs; part 0 whole, 1 before the crossing, 2 after.
+    auto pairs = [](int d, int regions[2], int parts[2]) {
+      if (d < 2) return regions[0] = d, parts[0] = 0, 1;
+      regions[0] = 0, parts[0] = d == 2 ? 1 : 2, regions[1] = 1, parts[1] = d == 2 ? 2 : 1;
+      return 2;
+    };
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) {
+        int ra[2], pa[2], rb[2], pb[2];
+        const int na = pairs(a, ra, pa), nb = pairs(b, rb, pb);
+        uint32_t mask = 0;
+        for (int i = 0; i < na; ++i)
+          for (int k = 0; k < nb; ++k)
+            if (parts_touch(pa[i], pb[k])) mask |= 1u << (ra[i] * 2 + rb[k]);
+        const int index = 4 * a + b;
+        (index < 8 ? t.relation_lo : t.relation_hi) |= mask << (4 * (index & 7));
+      }
+    return t;
+  }();
+  return tables;
 }
 
 const EpiTables& epi_tables() {

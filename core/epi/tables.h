@@ -42,6 +42,20 @@ static_assert(sizeof(EpiTables) <= 16 * 1024, "the tables must stay under 16 KB"
 // Generated once, on first use (thread-safe).
 const EpiTables& epi_tables();
 
+// For the vector reachability kernel (simd/reachability-inl.h): what a pixel shows on each side,
+// as 2-bit descriptors (0 the primary region along the whole side, 1 the secondary, 2 both
+// split at the crossing with the primary first clockwise, 3 the secondary first) at bits
+// 2 side, plus kSideBlocked (complex: reaches nothing) and kSideNonEmpty; and the neighbour
+// relation of two descriptors facing each other, 4 bits at 4 (4 a + b), entries 0-7 in
+// relation_lo and 8-15 in relation_hi. Built from regions_on_side with the overlap rule of the
+// neighbour table, which it reproduces (tables_test.cpp).
+constexpr uint32_t kSideBlocked = 1u << 8, kSideNonEmpty = 1u << 9;
+struct SideDescriptors {
+  uint32_t word[16];  // by pixel type
+  uint32_t relation_lo = 0, relation_hi = 0;
+};
+const SideDescriptors& side_descriptors();
+
 // Pieces of the generation, exposed for the tests.
 EpiTables generate_tables();
 // Which region of a pixel of this type touches its side `side`, and which part of it:

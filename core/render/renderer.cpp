@@ -338,14 +338,15 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   rs.complex_filter = settings_.complex_filter;
   ReconstructTimes rt;
   if (settings_.stage_timings) {
-    reconstructor_.run(epi_, masks_, rs, reconstruction_, rt);
+    reconstructor_.staged(epi_, masks_, rs, reconstruction_, rt);
   } else {
     const auto tr = Clock::now();
-    reconstruct_tiled(epi_, masks_, rs, Schedule{}, reconstruction_);
-    rt.interpolate = ms_since(tr);
+    reconstructor_.tiled(epi_, masks_, rs, Schedule{}, reconstruction_);
+    rt[Stage::interpolate] = ms_since(tr);
   }
-  stats_.ms.classify = rt.classify, stats_.ms.reachability = rt.reachability, stats_.ms.interpolate = rt.interpolate;
-  stats_.ms.antialias = rt.antialias, stats_.ms.complex = rt.complex;
+  stats_.ms.classify = rt.reported(Stage::classify), stats_.ms.reachability = rt.reported(Stage::reachability);
+  stats_.ms.interpolate = rt.reported(Stage::interpolate), stats_.ms.antialias = rt.reported(Stage::antialias);
+  stats_.ms.complex = rt.reported(Stage::complex);
   stats_.pixels = reconstruction_.counts;
 
   // Epi mode: pixels that reached no sample (black, top priority) filled from their own region.

@@ -18,7 +18,6 @@
 #include "epi/reconstruct.h"
 #include "render/edge_projection.h"
 #include "render/point_cache.h"
-#include "render/staged_reconstruct.h"
 #include "shade/async_shader.h"
 #include "shade/shader.h"
 
@@ -33,8 +32,8 @@ struct FrameSettings {
   bool sync = false;            // shade the budget inside each frame (deterministic for a seed)
   uint64_t seed = 1;            // request jitter (the shader has its own seed)
   bool antialias = true, complex_filter = true;  // epi mode
-  // true: the filters run stage by stage (each timed; StagedReconstructor); false: core/epi's
-  // fused, tiled reconstructor (same image, faster; its time is reported under interpolate).
+  // true: the filters run stage by stage (each timed; epi::Reconstructor::staged); false: the
+  // fused, tiled row stream (same image, faster; its time is reported under interpolate).
   bool stage_timings = true;
   PointCacheSettings cache;
   float predict_share = 0.25f;  // at most this share of the budget goes to predicted gaps
@@ -147,7 +146,7 @@ class FrameRenderer {
   PointCache cache_;
   EpiImage epi_;
   BoundaryMasks masks_;
-  StagedReconstructor reconstructor_;
+  Reconstructor reconstructor_;  // scratch and kernels chosen once
   Reconstruction reconstruction_;
   std::vector<glm::mat4> transforms_;
   std::vector<glm::vec3> light_positions_;  // per punctual light, as placed now

@@ -198,16 +198,14 @@ std::vector<Case> cases() {
 
 void expect_tiled_equals_oracle(const Pattern& pattern, const Case& c, uint64_t seed, std::vector<Schedule> schedules) {
   test::Built b = test::build(pattern, c.density, seed);
-  EpiImage oracle_epi = b.epi;
-  const Reconstruction oracle = reconstruct_oracle(oracle_epi, b.masks, c.settings);
+  const Reconstruction oracle = reconstruct_oracle(b.epi, b.masks, c.settings);
   for (const Schedule& s : schedules) {
-    EpiImage epi = b.epi;
-    const Reconstruction tiled = reconstruct_tiled(epi, b.masks, c.settings, s);
+    const Reconstruction tiled = reconstruct_tiled(b.epi, b.masks, c.settings, s);
     ASSERT_TRUE(same_bits(oracle.image.pixels, tiled.image.pixels))
         << pattern.width << "x" << pattern.height << " rows " << s.rows_per_band << " threads " << s.threads;
     ASSERT_TRUE(same_bits(oracle.priority, tiled.priority));
-    ASSERT_EQ(oracle_epi.edge, epi.edge);
-    ASSERT_EQ(oracle_epi.cache, epi.cache);
+    ASSERT_EQ(oracle.edge, tiled.edge);
+    ASSERT_EQ(oracle.cache, tiled.cache);
     ASSERT_EQ(oracle.counts.simple, tiled.counts.simple);
     ASSERT_EQ(oracle.counts.complex, tiled.counts.complex);
   }
@@ -226,19 +224,21 @@ TEST(Tiled, PropertyRandomPatternsBandsAndThreads) {
     const ReconstructSettings settings{rendercache ? Filter::rendercache : Filter::epi, pick(0, 1) == 1,
                                        pick(0, 1) == 1, pick(0, 1) == 1};
     test::Built b = test::build(pattern, pick(0, 100) / 100.0, seed, pick(0, 3) != 0);
-    EpiImage oracle_epi = b.epi;
-    const Reconstruction oracle = reconstruct_oracle(oracle_epi, b.masks, settings);
+    const EpiImage input = b.epi;
+    const Reconstruction oracle = reconstruct_oracle(b.epi, b.masks, settings);
     for (int k = 0; k < 3; ++k) {
       const Schedule schedule{pick(0, 3) == 0 ? pick(1, 1000) : pick(1, 12), pick(1, 3)};
-      EpiImage epi = b.epi;
-      const Reconstruction tiled = reconstruct_tiled(epi, b.masks, settings, schedule);
+      const Reconstruction tiled = reconstruct_tiled(b.epi, b.masks, settings, schedule);
       SCOPED_TRACE(testing::Message() << "trial " << trial << " " << w << "x" << h << " rows " << schedule.rows_per_band
                                       << " threads " << schedule.threads);
       ASSERT_TRUE(same_bits(oracle.image.pixels, tiled.image.pixels));
       ASSERT_TRUE(same_bits(oracle.priority, tiled.priority));
-      ASSERT_EQ(oracle_epi.edge, epi.edge);
-      ASSERT_EQ(oracle_epi.cache, epi.cache);
-      ASSERT_EQ(oracle_epi.color, epi.color);
+      ASSERT_EQ(oracle.edge, tiled.edge);
+      ASSERT_EQ(oracle.cache, tiled.cache);
+      // The input is never written.
+      ASSERT_EQ(input.edge, b.epi.edge);
+      ASSERT_EQ(input.cache, b.epi.cache);
+      ASSERT_EQ(input.color, b.epi.color);
       ASSERT_EQ(oracle.counts.empty, tiled.counts.empty);
       ASSERT_EQ(oracle.counts.simple, tiled.counts.simple);
       ASSERT_EQ(oracle.counts.complex, tiled.counts.complex);
@@ -276,9 +276,8 @@ TEST(Tiled, ReusedOutputBuffersGiveTheSameResult) {
   Reconstruction reused;
   for (uint64_t seed = 1; seed <= 3; ++seed) {
     test::Built b = test::build(test::random_pattern(30 + int(seed), 20, 10, seed), 0.4, seed);
-    EpiImage copy = b.epi;
     reconstruct_tiled(b.epi, b.masks, {}, {4, 2}, reused);
-    const Reconstruction fresh = reconstruct_oracle(copy, b.masks, {});
+    const Reconstruction fresh = reconstruct_oracle(b.epi, b.masks, {});
     ASSERT_TRUE(same_bits(reused.image.pixels, fresh.image.pixels));
     ASSERT_TRUE(same_bits(reused.priority, fresh.priority));
     ASSERT_EQ(reused.counts.simple, fresh.counts.simple);
@@ -359,23 +358,22 @@ TEST(Reconstruct, PriorityMatchesBruteForceIncludingAmbiguousSamples) {
       test::Built b = test::build(test::random_pattern(40, 30, 14, seed), density, seed);
       for (size_t i = 0; i < b.epi.color.size(); ++i)
         b.epi.color[i] = (b.epi.color[i] & 0xffffffu) | uint32_t((i * 37 + seed) % 256) << bits::kAgeShift;
-      EpiImage copy = b.epi;
       const Reconstruction r = reconstruct_tiled(b.epi, b.masks, {}, {7, 2});
-      ASSERT_TRUE(same_bits(r.priority, reconstruct_oracle(copy, b.masks, {}).priority));
+      ASSERT_TRUE(same_bits(r.priority, reconstruct_oracle(b.epi, b.masks, {}).priority));
       for (int y = 0; y < 30; ++y)
         for (int x = 0; x < 40; ++x) {
           const size_t i = b.epi.index(x, y);
-          const bool complex = pixel_type(b.epi.cache[i]) == kTypeComplex;
-          const uint32_t reach = reach_mask(b.epi.cache[i]);
+          const bool complex = pixel_type(r.cache[i]) == kTypeComplex;
+          const uint32_t reach = reach_mask(r.cache[i]);
           double total = 0;
           for (int dy = -2; dy <= 2; ++dy)
             for (int dx = -2; dx <= 2; ++dx) {
               if (!b.epi.inside(x + dx, y + dy)) continue;
-              const uint16_t e = b.epi.edge[b.epi.index(x + dx, y + dy)];
+              const uint16_t e = r.edge[b.epi.index(x + dx, y + dy)];
               const bool reached = (!dx && !dy) || ((reach >> reach_bit(dx, dy)) & 1);
               if (complex ? has_sample(e) : reached && usable_sample(e)) total += kInterpolationWeights[(dy + 2) * 5 + dx + 2];
             }
-          const uint16_t own = b.epi.edge[i];
+          const uint16_t own = r.edge[i];
           const float p = r.priority[i];
           if (total == 0) {
             ASSERT_EQ(p, kMaxPriority) << x << "," << y;
@@ -436,6 +434,43 @@ TEST(Reconstruct, MismatchedSizesAreRejected) {
   BoundaryMasks masks(5, 4, false);
   EXPECT_THROW(reconstruct_oracle(epi, masks, {}), std::invalid_argument);
   EXPECT_THROW(reconstruct_tiled(epi, masks, {}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace epi
+
+namespace epi {
+namespace {
+
+// The schedule's numbers follow from the stage table (docs/epi.md, "Stages and schedules"):
+// a stage's lag is the largest producer lag plus radius over its inputs; rings hold every row
+// a reader still needs.
+TEST(Stages, LagsRingsAndReportedSeriesFollowTheTable) {
+  EXPECT_EQ(stage_lag(Stage::classify), 0);
+  EXPECT_EQ(stage_lag(Stage::decode), 0);
+  EXPECT_EQ(stage_lag(Stage::reachability), 2);
+  EXPECT_EQ(stage_lag(Stage::interpolate), 3);
+  EXPECT_EQ(stage_lag(Stage::fill), 5);
+  EXPECT_EQ(stage_lag(Stage::antialias), 6);
+  EXPECT_EQ(stage_lag(Stage::complex), 6);
+  EXPECT_EQ(kMaxLag, 6);
+  EXPECT_EQ(kClassRingRows, 8);  // rows y-7 (the complex filter's top) .. y
+  EXPECT_EQ(ring_rows(Plane::reach), 4);
+  EXPECT_EQ(ring_rows(Plane::interp), 8);
+  EXPECT_EQ(ring_rows(Plane::filled), 4);
+  for (const StageInfo& s : kStages) {
+    EXPECT_EQ(&stage_info(s.stage), &s);
+    for (int i = 0; i < s.input_count; ++i) {  // every input is produced by an earlier stage (or this one: the image)
+      const Stage p = producer(s.inputs[size_t(i)].plane);
+      EXPECT_LE(int(p), int(s.stage)) << s.name;
+    }
+  }
+  ReconstructTimes t;
+  for (int k = 0; k < kStageCount; ++k) t.ms[size_t(k)] = double(1 << k);
+  EXPECT_EQ(t.reported(Stage::classify), 1 + 2);       // classify + decode
+  EXPECT_EQ(t.reported(Stage::interpolate), 8 + 16);   // interpolate + fill
+  EXPECT_EQ(t.reported(Stage::complex), 64);
+  EXPECT_FALSE(is_reported(Stage::fill));
 }
 
 }  // namespace

@@ -298,3 +298,33 @@ TEST(Tables, GeneratedTwiceIdentically) {
 
 }  // namespace
 }  // namespace epi
+
+namespace epi {
+namespace {
+
+// The vector kernel's form of the neighbour table: per (direction, type, type), the relation of
+// the two facing side descriptors, or nothing when either pixel is blocked, equals the table.
+TEST(SideDescriptors, ReproduceTheNeighbourTable) {
+  const EpiTables& t = epi_tables();
+  const SideDescriptors& d = side_descriptors();
+  int simple_pairs = 0;
+  for (int dir = 0; dir < 4; ++dir) {
+    const int side_a = dir == kRight ? 1 : dir == kDown ? 2 : dir == kLeft ? 3 : 0, side_b = (side_a + 2) % 4;
+    for (int a = 0; a < 14; ++a)
+      for (int b = 0; b < 14; ++b) {
+        const uint32_t wa = d.word[a], wb = d.word[b];
+        const int index = int((wa >> (2 * side_a)) & 3) * 4 + int((wb >> (2 * side_b)) & 3);
+        const uint32_t relation = ((index < 8 ? d.relation_lo : d.relation_hi) >> (4 * (index & 7))) & 15;
+        const uint32_t expected = t.neighbour[dir][(a << 4) | b];
+        ASSERT_EQ((wa | wb) & kSideBlocked ? 0u : relation, expected) << dir << " " << a << " " << b;
+        simple_pairs += type_is_simple(a) && type_is_simple(b) && expected != 0;
+      }
+  }
+  EXPECT_GT(simple_pairs, 300);
+  EXPECT_EQ(d.word[kTypeEmpty], 0u);                         // empty: the primary region on every side
+  EXPECT_TRUE(d.word[kTypeComplex] & kSideBlocked);
+  for (int type = 2; type < 14; ++type) EXPECT_FALSE(d.word[type] & kSideBlocked) << type;
+}
+
+}  // namespace
+}  // namespace epi

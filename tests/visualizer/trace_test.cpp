@@ -38,10 +38,13 @@ void check_every_pixel(const test::Built& built, const ReconstructSettings& sett
       ASSERT_TRUE(same(oracle.image.at(x, y), t.result));
       ASSERT_TRUE(same(tiled.image.at(x, y), t.result));
       ASSERT_EQ(std::bit_cast<uint32_t>(oracle.priority[i]), std::bit_cast<uint32_t>(t.priority));
-      ASSERT_EQ(reach_mask(oracle_epi.cache[i]), t.reach);
-      ASSERT_EQ(pixel_type(oracle_epi.cache[i]), t.type);
-      ASSERT_EQ(edge_code(oracle_epi.edge[i]), t.code);
-      ASSERT_EQ(usable_sample(oracle_epi.edge[i]), t.usable);
+      // Classification and reachability against the untraced functions (classify_pixel on the
+      // input word, reach_full on the tracer's classified EPI).
+      const PixelClass c = classify_pixel(built.masks, x, y, built.epi.edge[i]);
+      ASSERT_EQ(reach_full(tracer.classified(), x, y), t.reach);
+      ASSERT_EQ(int(c.type), t.type);
+      ASSERT_EQ(edge_code(c.edge), t.code);
+      ASSERT_EQ(usable_sample(c.edge), t.usable);
       ASSERT_TRUE(same(rendercache.image.at(x, y), t.rendercache));
       // The recorded steps recompose into the mask: 24 steps, or none on the all-empty fast path.
       if (t.reach_fast_path) {

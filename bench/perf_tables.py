@@ -1,0 +1,121 @@
+#!/usr/bin/env python3
+"""Turns epi_bench JSON (Google Benchmark, --benchmark_format=json, any --benchmark_repetitions)
+into the Markdown tables of docs/performance.md ("Reconstruction filters"), so that no figure
+there is typed by hand.
+
+  build/bin/epi_bench --benchmark_filter='BM_StreamingFloor|BM_Filters|BM_Reconstruct/' \\
+      --benchmark_repetitions=3 --benchmark_min_time=0.05 --benchmark_format=json > filters.json
+  python3 bench/perf_tables.py filters.json
+
+Each figure is the best of the repetitions (the machine is shared; the best run is the least
+disturbed one). One-thread figures are CPU times of the thread doing the work (robust under
+load); two-thread figures are wall times. x_floor = time / the streaming floor of the same run
+(BM_StreamingFloor, CPU time), the time to read and write the EPI's 10 bytes per pixel once.
+"""
+import json
+import sys
+from collections import defaultdict
+
+STAGES = ["classify", "decode", "reachability", "interpolate", "fill", "antialias", "complex"]
+SIZE_NAMES = {(512, 512): "512²", (1920, 1080): "1080p", (3840, 2160): "4K"}
+
+
+def load(paths):
+    runs, context = [], None
+    for path in paths:
+        with open(path) as f:
+            data = json.load(f)
+        context = context or data.get("context", {})
+        runs += [b for b in data["benchmarks"] if b.get("run_type", "iteration") == "iteration" and not b.get("error_occurred")]
+    return runs, context
+
+
+def args(name):
+    parts = name.split("/")
+    return parts[0], [int(p) for p in parts[1:] if p.lstrip("-").isdigit()]
+
+
+def best(values):
+    return min(values) if values else None
+
+
+def fmt(v, digits=1):
+    if v is None:
+        return "-"
+    return f"{v:.{digits}f}" if v < 100 else f"{v:.0f}"
+
+
+def main(paths):
+    runs, context = load(paths)
+    floor = defaultdict(list)         # (w, h) -> floor CPU ms
+    filters = defaultdict(lambda: defaultdict(list))  # (w, h, edges, threads, kernel) -> stage -> [ms]
+    whole = defaultdict(list)         # (w, h, edges, label) -> [ms]
+    reuse = defaultdict(list)         # (w, h, symmetry) -> reachability CPU ms
+    kernels = {}
+    for r in runs:
+        bench, a = args(r["name"])
+        if bench == "BM_StreamingFloor":
+            floor[(a[0], a[1])].append(r["cpu_time"])
+        elif bench == "BM_Filters":
+            w, h, k, threads, edges = a[:5]
+            kernels[k] = r["label"].split()[0]
+            for s in STAGES:
+                key = f"{s}_cpu_ms" if threads == 1 else f"{s}_ms"
+                filters[(w, h, edges, threads, k)][s].append(r[key])
+        elif bench == "BM_ReachReuse":
+            reuse[(a[0], a[1], a[2])].append(r["reachability_cpu_ms"])
+        elif bench == "BM_Reconstruct":
+            w, h, k, threads, edges = a[:5]
+            label = r["label"].replace(" few", "").replace(" many", "")
+            # One thread: the CPU time of the thread doing the work; two: wall time.
+            whole[(w, h, edges, label)].append(r["cpu_time"] if threads == 1 else r["real_time"])
+    order = sorted(kernels)
+    out = []
+    out.append(f"Run {context.get('date', '?')}, {context.get('num_cpus', '?')} CPUs, "
+               f"load average {', '.join(f'{x:.1f}' for x in context.get('load_avg', []))}.\n")
+    out.append("Streaming floor (memcpy of the three planes, one thread, CPU ms): " +
+               ", ".join(f"{SIZE_NAMES.get(s, s)} {fmt(best(v), 3)}" for s, v in sorted(floor.items())) + ".\n")
+    for threads in (1, 2):
+        what = "CPU ms, one thread" if threads == 1 else "wall ms, two threads"
+        out.append(f"\n**Per filter, {what}** (speed-up of the best target over the oracle; x_floor of the best target)\n")
+        out.append("| size | edges | stage | " + " | ".join(kernels[k] for k in order) + " | speed-up | x_floor |")
+        out.append("|---|---|---|" + "---|" * (len(order) + 2))
+        for (w, h) in sorted({(k[0], k[1]) for k in filters}):
+            for edges in (0, 1):
+                for s in STAGES:
+                    row = [best(filters.get((w, h, edges, threads, k), {}).get(s, [])) for k in order]
+                    if all(v is None for v in row):
+                        continue
+                    oracle, fast = row[0], min((v for v in row[1:] if v is not None), default=None)
+                    speedup = f"{oracle / fast:.1f}x" if oracle and fast and s != "decode" else "-"
+                    fl = best(floor.get((w, h), []))
+                    xf = fmt(fast / fl) if fast is not None and fl else "-"
+                    out.append(f"| {SIZE_NAMES.get((w, h))} | {'many' if edges else 'few'} | {s} | " +
+                               " | ".join(fmt(v, 2) for v in row) + f" | {speedup} | {xf} |")
+    out.append("\n**Whole reconstruction** (ms: one thread CPU, two threads wall; in brackets x_floor)\n")
+    labels = sorted({k[3] for k in whole}, key=lambda l: (l != "oracle", "SCALAR" in l, l))
+    out.append("| size | edges | " + " | ".join(labels) + " |")
+    out.append("|---|---|" + "---|" * len(labels))
+    for (w, h) in sorted({(k[0], k[1]) for k in whole}):
+        fl = best(floor.get((w, h), []))
+        for edges in (0, 1):
+            cells = []
+            for l in labels:
+                v = best(whole.get((w, h, edges, l), []))
+                cells.append("-" if v is None else f"{fmt(v)} ({fmt(v / fl) if fl else '-'})")
+            out.append(f"| {SIZE_NAMES.get((w, h))} | {'many' if edges else 'few'} | " + " | ".join(cells) + " |")
+    if reuse:
+        out.append("\n**Reachability reused across rows** (the best target, one thread, CPU ms of the reachability stage)\n")
+        out.append("| size | all 24 offsets | forward 14 + symmetry | saved |")
+        out.append("|---|---|---|---|")
+        for (w, h) in sorted({(k[0], k[1]) for k in reuse}):
+            full, sym = best(reuse.get((w, h, 0), [])), best(reuse.get((w, h, 1), []))
+            saved = f"{100 * (1 - sym / full):.0f} %" if full and sym else "-"
+            out.append(f"| {SIZE_NAMES.get((w, h))} | {fmt(full, 2)} | {fmt(sym, 2)} | {saved} |")
+    print("\n".join(out))
+
+
+if __name__ == "__main__":
+    if len(sys.argv) < 2:
+        sys.exit(__doc__)
+    main(sys.argv[1:])

@@ -1,0 +1,114 @@
+// The interpolation row kernel (per target; included by row_kernels.cpp through
+// foreach_target.h). The same sums as core/epi's weighted_sum, lane by lane: taps in the
+// oracle's order (dy, then dx), each weight multiplied by 0 or 1 and the products added
+// separately (no fused multiply-add: the project builds with -ffp-contract=off), so every
+// lane equals the oracle bit for bit. Pixels outside the image are padded zeros: weight 0
+// adds +0, as the oracle's skipped taps add nothing.
+#if defined(EPI_SIMD_INTERPOLATE_INL_H_) == defined(HWY_TARGET_TOGGLE)
+#ifdef EPI_SIMD_INTERPOLATE_INL_H_
+#undef EPI_SIMD_INTERPOLATE_INL_H_
+#else
+#define EPI_SIMD_INTERPOLATE_INL_H_
+#endif
+
+#include <cstring>
+
+#include <hwy/highway.h>
+
+#include "simd/row_kernels.h"
+
+HWY_BEFORE_NAMESPACE();
+namespace epi::simd {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+// w(dx, dy) = 1 / (1 + dx^2 + dy^2)^2, in the oracle's float constants (interpolate.cpp).
+inline float InterpolationWeight(int dx, int dy) {
+  static constexpr float kWeights[25] = {
+      1.0f / 81, 1.0f / 36, 1.0f / 25, 1.0f / 36, 1.0f / 81,  //
+      1.0f / 36, 1.0f / 9,  1.0f / 4,  1.0f / 9,  1.0f / 36,  //
+      1.0f / 25, 1.0f / 4,  1.0f,      1.0f / 4,  1.0f / 25,  //
+      1.0f / 36, 1.0f / 9,  1.0f / 4,  1.0f / 9,  1.0f / 36,  //
+      1.0f / 81, 1.0f / 36, 1.0f / 25, 1.0f / 36, 1.0f / 81};
+  return kWeights[(dy + 2) * 5 + dx + 2];
+}
+
+// Lanes x .. x + N - 1 of the row; `types`, `reach`, `color` and the outputs start at x.
+template <class DF>
+HWY_INLINE void InterpolateLanes(DF df, const InterpolateRow& row, int x, const uint8_t* types,
+                                 const uint32_t* reach, const uint32_t* color, float* rgb, float* total_out,
+                                 float* priority_out) {
+  const hn::RebindToUnsigned<DF> du;
+  const hn::Rebind<uint8_t, DF> d8;
+  using VU = hn::Vec<decltype(du)>;
+  const auto complex = hn::Eq(hn::PromoteTo(du, hn::LoadU(d8, types)), hn::Set(du, 1u));
+  const VU r = hn::LoadU(du, reach);
+  // The reach mask spread over the 25 window positions (centre bit 12 always set); complex
+  // pixels take every sample of the 5x5 (the simple estimate).
+  const VU window = hn::Or(hn::Or(hn::And(r, hn::Set(du, 0xfffu)), hn::Set(du, 1u << 12)),
+                           hn::ShiftLeft<1>(hn::And(r, hn::Set(du, 0xfff000u))));
+  const VU take = hn::IfThenElse(complex, hn::Set(du, 0x1ffffffu), window);
+  const auto complex_f = hn::RebindMask(df, complex);
+  const bool any_complex = !hn::AllFalse(du, complex);  // most vectors: only the usable flags
+  auto sr = hn::Zero(df), sg = hn::Zero(df), sb = hn::Zero(df), total = hn::Zero(df);
+  for (int dy = -2; dy <= 2; ++dy) {
+    const int k0 = (dy + 2) * 5;
+    const float* red = row.red[dy + 2] + kPad + x;
+    const float* green = row.green[dy + 2] + kPad + x;
+    const float* blue = row.blue[dy + 2] + kPad + x;
+    const float* usable = row.usable[dy + 2] + kPad + x;
+    const float* sampled = row.sampled[dy + 2] + kPad + x;
+    for (int dx = -2; dx <= 2; ++dx) {
+      const auto bit = hn::RebindMask(df, hn::Ne(hn::And(take, hn::Set(du, 1u << (k0 + dx + 2))), hn::Zero(du)));
+      const auto flag = any_complex ? hn::IfThenElse(complex_f, hn::LoadU(df, sampled + dx), hn::LoadU(df, usable + dx))
+                                    : hn::LoadU(df, usable + dx);
+      const auto w = hn::IfThenElseZero(bit, hn::Mul(hn::Set(df, InterpolationWeight(dx, dy)), flag));
+      sr = hn::Add(sr, hn::Mul(w, hn::LoadU(df, red + dx)));
+      sg = hn::Add(sg, hn::Mul(w, hn::LoadU(df, green + dx)));
+      sb = hn::Add(sb, hn::Mul(w, hn::LoadU(df, blue + dx)));
+      total = hn::Add(total, w);
+    }
+  }
+  const auto found = hn::Gt(total, hn::Zero(df));
+  // Division only where something was found (the rest is left to the caller's fallback).
+  const auto safe = hn::IfThenElse(found, total, hn::Set(df, 1.0f));
+  hn::StoreInterleaved3(hn::Div(sr, safe), hn::Div(sg, safe), hn::Div(sb, safe), df, rgb);
+  hn::StoreU(total, df, total_out);
+  // Priority: the age of a usable own sample / 16, else 1 / total capped at 15 (interpolate.h).
+  const auto own_usable = hn::Gt(hn::LoadU(df, row.usable[2] + kPad + x), hn::Zero(df));
+  const auto age = hn::Mul(hn::ConvertTo(df, hn::BitCast(hn::RebindToSigned<DF>(), hn::ShiftRight<24>(hn::LoadU(du, color)))),
+                           hn::Set(df, 1.0f / 16.0f));
+  const auto by_weight = hn::IfThenElse(hn::Gt(hn::Mul(total, hn::Set(df, 15.0f)), hn::Set(df, 1.0f)),
+                                        hn::Div(hn::Set(df, 1.0f), safe), hn::Set(df, 15.0f));
+  hn::StoreU(hn::IfThenElse(own_usable, age, by_weight), df, priority_out);
+}
+
+inline void InterpolateRowKernel(const InterpolateRow& row) {
+  const hn::ScalableTag<float> df;
+  const int n = int(hn::Lanes(df));
+  int x = 0;
+  for (; x + n <= row.width; x += n)
+    InterpolateLanes(df, row, x, row.types + x, row.reach + x, row.color + x, row.rgb + 3 * x, row.total + x,
+                     row.priority + x);
+  if (x == row.width) return;
+  // The last, partial vector: own-row inputs and outputs through buffers of full vectors
+  // (the padded planes hold zeros beyond the row).
+  constexpr int kMax = HWY_LANES(float);
+  HWY_ALIGN uint8_t types[kMax] = {};
+  HWY_ALIGN uint32_t reach[kMax] = {}, color[kMax] = {};
+  HWY_ALIGN float rgb[3 * kMax], total[kMax], priority[kMax];
+  const int rest = row.width - x;
+  std::memcpy(types, row.types + x, size_t(rest));
+  std::memcpy(reach, row.reach + x, size_t(rest) * 4);
+  std::memcpy(color, row.color + x, size_t(rest) * 4);
+  InterpolateLanes(df, row, x, types, reach, color, rgb, total, priority);
+  std::memcpy(row.rgb + 3 * x, rgb, size_t(rest) * 12);
+  std::memcpy(row.total + x, total, size_t(rest) * 4);
+  std::memcpy(row.priority + x, priority, size_t(rest) * 4);
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace epi::simd
+HWY_AFTER_NAMESPACE();
+
+#endif  // EPI_SIMD_INTERPOLATE_INL_H_

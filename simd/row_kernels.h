@@ -1,0 +1,127 @@
+// The Highway row kernels of the reconstruction filters, one table per compiled target
+// (dynamic dispatch: the Reconstructor picks a table once, never per row). Each kernel
+// computes one row of a stage exactly as the per-pixel oracle in core/epi does, bit for bit;
+// tests/simd runs every compiled target against it. docs/epi.md, "SIMD kernels".
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "epi/tables.h"  // kSideBlocked, kSideNonEmpty (header only: simd links no core/epi code)
+
+namespace epi::simd {
+
+// One row of interpolation (interpolate.h: the 5x5 kernel-weighted mean of the reachable
+// usable samples; complex pixels: of every sample) over decoded, padded rows: row k of each
+// array is image row y - 2 + k, pixel x of it at index x + kPad; the kPad pixels on the left,
+// at least one vector's worth on the right and rows outside the image hold zeros (no sample).
+constexpr int kPad = 2;
+struct InterpolateRow {
+  int width;
+  const float* red[5];      // linear colour, decoded once per row
+  const float* green[5];
+  const float* blue[5];
+  const float* usable[5];   // 1: the pixel holds a usable sample, else 0
+  const float* sampled[5];  // 1: the pixel holds a sample, else 0
+  // The row's own pixels (width each, no padding): types, 24-bit reach masks, sample words (age).
+  const uint8_t* types;
+  const uint32_t* reach;
+  const uint32_t* color;
+  // Outputs, width each: colours (3 floats per pixel), total weight (0: nothing reached; the
+  // colour and priority are then the caller's: the oracle's fallback), priority.
+  float* rgb;
+  float* total;
+  float* priority;
+};
+
+// One row of reachability (reachability.h: the 24-bit primary-to-primary masks of the 5x5)
+// over padded rows of side words, row k = image row y - 2 + k, pixel x at x + kPad: bits 2s-2s+1
+// the descriptor of what the pixel shows on its side s (0 top, 1 right, 2 bottom, 3 left; 0 the
+// primary region whole, 1 the secondary whole, 2 the primary before the crossing and the
+// secondary after, 3 the reverse), kSideBlocked for complex pixels and pixels outside the image
+// (padding, rows outside), kSideNonEmpty for every pixel but an empty one (epi/tables.h,
+// SideDescriptors, builds them).
+struct ReachRow {
+  int width;
+  const uint32_t* sides[5];
+  // The neighbour relation of descriptors (a, b), 4 bits at 4 (4a + b): entries 0-7 in lo, 8-15 in hi.
+  uint32_t relation_lo, relation_hi;
+  uint32_t* reach;  // out, width masks
+  // The masks of rows y - 1 and y - 2, padded like the side words (zeros outside the image), or
+  // nullptr: then all 24 offsets are computed, else the 14 forward ones and the other 10 from
+  // these rows by symmetry (docs/epi.md, "Reachability reused across rows").
+  const uint32_t* above[2];
+};
+
+// One row y of classification (classify.h: classify_pixel for each pixel). Boundary mask rows
+// (rasterize.h, width + 1 bytes each): `top` the tops of row y, `bottom` the tops of row y + 1,
+// `left` the left sides of row y (pixel x's right side is left[x + 1]).
+struct ClassifyRow {
+  int width;
+  const uint8_t* top;
+  const uint8_t* bottom;
+  const uint8_t* left;
+  const uint16_t* in;          // the input edge words (sample bits)
+  const uint32_t* sidedness;   // EpiTables::sidedness, 1024 entries
+  const uint32_t* area;        // EpiTables::area_a widened to 32 bits, 1024 entries
+  uint16_t* edge;              // out: classified edge words
+  uint8_t* types;              // out: pixel types
+  int64_t counts[5];           // added to: empty, simple, complex, samples, ambiguous
+};
+
+// One row of anti-aliasing (antialias.h) over the filled primary colours (3 floats per pixel):
+// rows[0..2] rows y - 1, y, y + 1 (nullptr outside the image; all three in one allocation).
+struct AntialiasRow {
+  int width;
+  const float* rows[3];
+  const uint8_t* types;
+  const uint16_t* edge;            // classified edge words (codes)
+  // By edge code, 1024 entries: EpiTables::area_a in bits 0-15, secondary_neighbour in 16-23.
+  const uint32_t* area_and_secondary;
+  float* out;                      // 3 floats per pixel
+};
+
+// One classified row decoded for the other kernels: colours to linear light through `lut`
+// (the 256-entry sRGB table), usable and sampled flags as 1 or 0, side words by type. Outputs
+// start at pixel 0 of the padded planes (width entries written, padding untouched).
+struct DecodeRow {
+  int width;
+  const uint16_t* edge;
+  const uint8_t* types;
+  const uint32_t* color;
+  const float* lut;
+  const uint32_t* side_words;  // 16 entries, by type
+  float *red, *green, *blue, *usable, *sampled;
+  uint32_t* sides;
+};
+
+// One row of the fill step (fill.h) over padded rows of interpolated colours (3 floats per
+// pixel) and found flags: row k = image row y - 2 + k, pixel x at rows[k] + 3x and found[k] + x,
+// kPad pixels of zeros on the left and at least one vector's worth on the right; rows outside
+// the image all zeros.
+struct FillRow {
+  int width;
+  const float* rows[5];
+  const uint8_t* found[5];
+  const uint32_t* reach;  // the row's own masks
+  float* out;             // 3 floats per pixel
+};
+
+struct RowKernels {
+  const char* target_name;
+  int64_t target;  // the HWY_* bit
+  void (*interpolate)(const InterpolateRow& row);
+  void (*reachability)(const ReachRow& row);
+  void (*classify)(ClassifyRow& row);
+  void (*antialias)(const AntialiasRow& row);
+  void (*decode)(const DecodeRow& row);
+  void (*fill)(const FillRow& row);
+};
+
+// The table of one target; 0: the best this CPU runs. Throws std::invalid_argument for a
+// target that is not compiled or not supported here.
+const RowKernels& row_kernels(int64_t target = 0);
+// The targets compiled in and supported by this CPU, best first (e.g. AVX3, AVX2, SSE4, scalar).
+std::vector<int64_t> compiled_targets();
+
+}  // namespace epi::simd
