@@ -1,5 +1,6 @@
-// The `epi` subcommands. cli/main.cpp (CLI11, the only file that includes it) parses the
-// command line into these structs and calls run_*; each run_* lives in its own file and
+// The `epi` subcommands. cli/main.cpp (CLI11; with render_flags.cpp, which adds the render
+// flags shared with epi-viewer, the only files that include it) parses the command line into
+// these structs and calls run_*; each run_* lives in its own file and
 // returns the process exit code. Errors are thrown as exceptions whose what() is one line
 // naming the file and the problem; main prints "epi: <what>" and exits 1. A command line that
 // does not parse (unknown flag, bad value, no subcommand) prints the problem and the usage and
@@ -13,7 +14,7 @@
 
 #include <glm/glm.hpp>
 
-#include "shade/shader.h"
+#include "render_options.h"
 
 namespace epi {
 struct Scene;
@@ -22,49 +23,13 @@ struct Camera;
 
 namespace epi::cli {
 
-struct CameraOverride {
-  std::optional<glm::vec3> eye, target, up;
-  std::optional<float> fov_degrees;
-};
-
-// The scene's default camera with the command line's --eye/--target/--up/--fov applied.
-Camera apply_camera_override(const Scene& scene, const CameraOverride& override_);
-
 struct InfoOptions {
   std::string scene;
   int subdiv_level = -1;  // -1: as the scene says
 };
 int run_info(const InfoOptions& options);
 
-struct RenderOptions {
-  std::string scene;
-  std::string mode = "epi";  // epi | rendercache (the frame loop) | raytrace | reference
-  int width = 512, height = 512;
-  int spp = 16;
-  std::string shader = "direct";  // direct | glossy | gi
-  ShaderSettings shading;         // sample counts from the command line; kind and seed from the two fields above/below
-  uint64_t seed = 1;
-  int threads = 0;  // 0: all cores
-  std::string output = "out.png";
-  std::string stats;  // JSON file, empty: none
-  float exposure = 0.0f;  // stops, for 8-bit outputs (io/image tone map)
-  bool quiet = false;
-  int subdiv_level = -1;
-  CameraOverride camera;
-  // The frame loop (modes epi and rendercache):
-  int frames = 60;
-  bool sync = false;           // shade exactly the budget each frame (deterministic)
-  double sample_budget = 0.02; // fraction of the pixels requested per frame
-  std::string camera_path;     // file of camera keys per frame; empty: the scene's path, else still
-  std::string frames_out;      // printf-style pattern for every frame's image, e.g. out/f%04d.png
-  std::string save_epi;        // mode epi: the last frame's EPI snapshot (io/snapshot), empty: none
-  bool soft_shadow_edges = false;  // epi mode: the paper's umbral and penumbral edges (render.md, "Soft-shadow edges")
-  std::string reference;       // image to compare the written frame with (all modes); empty: none
-  bool speedup = true;         // epi, rendercache: time a 1-spp ray trace of the last view
-};
 int run_render(const RenderOptions& options);
-// The shader settings a render asks for (kind, seed and sample counts).
-ShaderSettings shader_settings(const RenderOptions& options);
 // The frame loop behind `render --mode epi|rendercache` (cli/frames.cpp).
 int run_render_frames(const RenderOptions& options);
 

@@ -76,8 +76,6 @@ double mean(const std::vector<double>& v) {
   return v.empty() ? 0.0 : s / double(v.size());
 }
 
-bool has_camera_override(const CameraOverride& c) { return c.eye || c.target || c.up || c.fov_degrees; }
-
 }  // namespace
 
 int run_render_frames(const RenderOptions& options) {
@@ -101,8 +99,7 @@ int run_render_frames(const RenderOptions& options) {
   const ShaderSettings shader_settings_ = shader_settings(options);
   std::optional<ReferenceImage> reference;  // read and its size checked before work
   if (!options.reference.empty()) reference = read_reference(options.reference, options.width, options.height);
-  if (!(options.sample_budget > 0.0 && options.sample_budget <= 1.0))
-    throw std::invalid_argument("--sample-budget " + std::to_string(options.sample_budget) + " is not in (0, 1]");
+  check_sample_budget(options);
 
   std::unique_ptr<tbb::global_control> thread_limit;
   if (options.threads > 0)
@@ -120,7 +117,7 @@ int run_render_frames(const RenderOptions& options) {
   render::CameraPath path;
   if (!options.camera_path.empty()) {
     path = render::read_camera_path(options.camera_path, scene);
-  } else if (has_camera_override(options.camera)) {
+  } else if (options.camera.any()) {
     path.cameras.push_back({0, apply_camera_override(scene, options.camera)});
   } else {
     path = render::scene_camera_path(scene, options.frames);
@@ -276,7 +273,7 @@ int run_render_frames(const RenderOptions& options) {
         {"threads", threads},
         {"triangles", scene.triangle_count()},
         {"camera_path", !options.camera_path.empty()            ? options.camera_path
-                        : has_camera_override(options.camera) || scene.camera_path.empty() ? std::string("still")
+                        : options.camera.any() || scene.camera_path.empty() ? std::string("still")
                                                                                           : std::string("scene")},
         {"stages_ms",
          {{"find_edges", median(series.find_edges)},

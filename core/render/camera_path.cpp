@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -169,6 +170,35 @@ CameraPath scene_camera_path(const Scene& scene, int frames) {
     path.cameras.push_back({frame, c});
   }
   return path;
+}
+
+}  // namespace epi::render
+
+namespace epi::render {
+
+namespace {
+
+std::string number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g", v);
+  return text;
+}
+
+std::string vec3(const glm::vec3& v) { return number(v.x) + " " + number(v.y) + " " + number(v.z); }
+
+}  // namespace
+
+std::string format_camera_key(double frame, const Camera& camera) {
+  return "camera " + number(frame) + " eye " + vec3(camera.eye) + " target " + vec3(camera.target) + " up " +
+         vec3(camera.up) + " fov " + number(camera.yfov_degrees);
+}
+
+std::string format_object_key(double frame, const std::string& object, const glm::vec3& translate) {
+  return "object " + number(frame) + " " + object + " translate " + vec3(translate);
+}
+
+std::string format_light_key(double frame, const std::string& light, const glm::vec3& translate) {
+  return "light " + number(frame) + " " + light + " translate " + vec3(translate);
 }
 
 }  // namespace epi::render

@@ -56,3 +56,13 @@ CameraPath read_camera_path(const std::filesystem::path& file, const Scene& scen
 CameraPath scene_camera_path(const Scene& scene, int frames);
 
 }  // namespace epi::render
+
+namespace epi::render {
+
+// One line of a path file (docs/camera-path.md), the inverse of the parser: numbers printed so
+// that parsing gives back the same floats. Used by the viewer to print and record cameras.
+std::string format_camera_key(double frame, const Camera& camera);
+std::string format_object_key(double frame, const std::string& object, const glm::vec3& translate);
+std::string format_light_key(double frame, const std::string& light, const glm::vec3& translate);
+
+}  // namespace epi::render

@@ -101,6 +101,7 @@ class FrameRenderer {
   const FrameStats& stats() const { return stats_; }
   const PointCache& cache() const { return cache_; }
   const std::vector<float>& priority() const { return reconstruction_.priority; }
+  const EpiImage& epi() const { return epi_; }  // this frame's EPI, classified (types, reachability)
   const FrameSettings& settings() const { return settings_; }
   const std::vector<Segment>& segments() const { return segments_; }  // this frame's visible edge pieces
   const EpiImage& epi() const { return epi_; }                // this frame's EPI (classified)

@@ -56,6 +56,18 @@ void tone_map(const float* linear, float exposure_stops, float* display) {
   for (int c = 0; c < 3; ++c) display[c] = std::clamp(rgb[c] * gain, 0.0f, 1.0f);
 }
 
+void inverse_tone_map(const float* display, float* linear) {
+  const float m = std::max({display[0], display[1], display[2]});
+  float gain = 1.0f;
+  if (m > kShoulderKnee) {
+    // shoulder = k + (1 - k) x / (1 + x) with x = (m_linear - k) / (1 - k), solved for m_linear.
+    const double y = std::min((double(m) - kShoulderKnee) / (1.0 - kShoulderKnee), 1.0 - 1e-7);
+    const double x = y / (1.0 - y);
+    gain = float((kShoulderKnee + (1.0 - kShoulderKnee) * x) / double(m));
+  }
+  for (int c = 0; c < 3; ++c) linear[c] = std::max(display[c], 0.0f) * gain;
+}
+
 bool is_linear_format(const fs::path& file) {
   const std::string ext = lower_extension(file);
   return std::find(kLinearExtensions.begin(), kLinearExtensions.end(), ext) != kLinearExtensions.end();

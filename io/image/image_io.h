@@ -25,6 +25,10 @@ struct ImageIOError : std::runtime_error {
 // The result is in [0, 1]; sRGB encoding follows.
 constexpr float kShoulderKnee = 0.8f;
 void tone_map(const float* linear, float exposure_stops, float* display);
+// Its inverse at exposure 0: linear RGB whose tone map is `display` (in [0, 1]); a largest channel
+// of 1 maps to a large finite value. Writing such an image to an 8-bit file gives back the display
+// bytes (the viewer's window screenshots).
+void inverse_tone_map(const float* display, float* linear);
 
 // sRGB transfer functions on [0, 1].
 float linear_to_srgb(float v);

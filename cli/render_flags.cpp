@@ -1,0 +1,135 @@
+// The command-line half of the shared render options: `epi render` and `epi-viewer` add the
+// same flags through add_render_options (CLI11 is slow to compile: few files include it).
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <sstream>
+
+#include "render_options.h"
+
+namespace epi::cli {
+
+namespace {
+
+// Parses "x,y,z" into a vector of three finite floats.
+bool parse_vec3(const std::string& text, glm::vec3& out) {
+  std::stringstream in(text);
+  std::string part;
+  float v[3];
+  for (int i = 0; i < 3; ++i) {
+    if (!std::getline(in, part, ',')) return false;
+    try {
+      size_t used = 0;
+      v[i] = std::stof(part, &used);
+      if (used != part.size() || !std::isfinite(v[i])) return false;
+    } catch (const std::exception&) {
+      return false;
+    }
+  }
+  if (std::getline(in, part)) return false;
+  out = {v[0], v[1], v[2]};
+  return true;
+}
+
+void add_vec3_option(CLI::App& app, const std::string& name, std::optional<glm::vec3>& target, const std::string& help) {
+  app.add_option_function<std::string>(
+         name,
+         [&target, name](const std::string& text) {
+           glm::vec3 v;
+           if (!parse_vec3(text, v)) throw CLI::ValidationError(name, "expected three numbers x,y,z, got '" + text + "'");
+           target = v;
+         },
+         help)
+      ->type_name("X,Y,Z");
+}
+
+}  // namespace
+
+void add_camera_options(CLI::App& app, CameraOverride& camera) {
+  add_vec3_option(app, "--eye", camera.eye, "Camera position (overrides the scene's default camera)");
+  add_vec3_option(app, "--target", camera.target, "Point the camera looks at");
+  add_vec3_option(app, "--up", camera.up, "Camera up vector");
+  app.add_option_function<float>(
+         "--fov", [&camera](float v) { camera.fov_degrees = v; }, "Vertical field of view in degrees")
+      ->check(CLI::Range(0.01f, 179.0f));
+}
+
+void add_size_option(CLI::App& app, int& width, int& height) {
+  app.add_option_function<std::string>(
+         "--size",
+         [&width, &height](const std::string& text) {
+           int w = 0, h = 0;
+           char x = 0, extra = 0;
+           if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 ||
+               h < 1 || w > 16384 || h > 16384)
+             throw CLI::ValidationError("--size", "expected WxH with 1..16384, got '" + text + "'");
+           width = w;
+           height = h;
+         },
+         "Image size, e.g. 512x512")
+      ->type_name("WxH");
+}
+
+void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_loop) {
+  app.add_option("scene", render.scene, "glTF 2.0 scene (.gltf or .glb)")->required();
+  if (with_frame_loop) {
+    app.add_option("--mode", render.mode,
+                   "epi (the default): the edge-and-point renderer, run over --frames frames of the camera path; "
+                   "rendercache: the same without edges; raytrace: 1 sample per pixel; reference: converged, --spp "
+                   "samples per pixel")
+        ->check(CLI::IsMember({"epi", "rendercache", "raytrace", "reference"}))
+        ->capture_default_str();
+    app.add_flag("--sync", render.sync,
+                 "Shade exactly the sample budget inside every frame: the same bytes for the same seed. Default: "
+                 "asynchronous, as interactively (the shader runs beside the frame loop; timing-dependent)");
+    app.add_option("--sample-budget", render.sample_budget, "Fraction of the pixels shaded per frame")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
+    app.add_option("--camera-path", render.camera_path, "Camera keys per frame (docs/camera-path.md)");
+    app.add_flag("--soft-shadow-edges", render.soft_shadow_edges,
+                 "epi mode: also cut interpolation at area lights' umbral and penumbral edges, as the paper does "
+                 "(off by default: it costs quality where a penumbra is a few pixels wide; docs/render.md)");
+  } else {
+    render.mode = "reference";  // built without the frame loop
+    app.add_option("--mode", render.mode, "reference: converged, --spp samples per pixel; raytrace: 1 sample per pixel")
+        ->check(CLI::IsMember({"reference", "raytrace"}))
+        ->capture_default_str();
+  }
+  add_size_option(app, render.width, render.height);
+  app.add_option("--spp", render.spp, "Samples per pixel (reference mode)")->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  app.add_option("--shader", render.shader, "direct: lights and soft shadows; glossy: + glossy reflection; gi: + path-traced indirect")
+      ->check(CLI::IsMember({"direct", "glossy", "gi"}))
+      ->capture_default_str();
+  app.add_option("--seed", render.seed, "Random seed (results do not depend on --threads)")->capture_default_str();
+  app.add_option("--threads", render.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
+  app.add_option("--exposure", render.exposure,
+                 "Exposure in stops for 8-bit outputs (.png): linear * 2^stops, then a highlight shoulder above "
+                 "0.8 that keeps hue, then sRGB. EXR is written linear, untouched")
+      ->check(CLI::Range(-32.0f, 32.0f))
+      ->capture_default_str();
+  app.add_option("--area-light-samples", render.shading.area_light_samples, "Shadow rays to area lights per hit")
+      ->check(CLI::Range(1, 4096))
+      ->capture_default_str();
+  app.add_option("--glossy-samples", render.shading.glossy_samples, "Glossy reflection rays per hit (glossy shader)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  app.add_option("--glossy-light-samples", render.shading.glossy_light_samples,
+                 "Area-light shadow rays at each reflected hit (glossy shader)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  app.add_option("--gi-paths", render.shading.gi_paths, "Indirect paths per hit (gi shader)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  app.add_option("--gi-light-samples", render.shading.gi_light_samples, "Area-light shadow rays per path vertex (gi shader)")
+      ->check(CLI::Range(0, 4096))
+      ->capture_default_str();
+  app.add_option("--gi-max-bounces", render.shading.gi_max_bounces, "Longest indirect path, in bounces (gi shader)")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
+  app.add_option("--subdiv-level", render.subdiv_level, "Override the subdivision level")->check(CLI::Range(0, 8));
+  add_camera_options(app, render.camera);
+}
+
+}  // namespace epi::cli

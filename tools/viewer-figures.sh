@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# The figures of docs/viewer.md, made by the viewer itself under a virtual X server:
+#   1. one screenshot per stage view and one of the whole window (docs/images/viewer/),
+#   2. the --benchmark figures at 512x512 and 1920x1080, written into docs/viewer.md between the
+#      "viewer-benchmark" markers (with the machine and its load).
+# Usage: tools/viewer-figures.sh [BUILD_DIR]   (default: build; needs xvfb-run)
+set -euo pipefail
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${1:-$root/build}
+viewer=$build/bin/epi-viewer
+scene=$root/scenes/cornell_box.gltf
+images=$root/docs/images/viewer
+mkdir -p "$images"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# 1. Stage views: the default Cornell box view, 320x320, after the cache has filled; the hovered
+#    pixel (reachability view) sits on the short block's top edge.
+{
+  echo "wait 90"
+  echo "move 200 212"
+  names=(final points edges classes reachability priority depth)
+  for k in 1 2 3 4 5 6 7; do
+    echo "key F$k"
+    echo "wait 2"
+    echo "screenshot $images/stage-${names[$((k - 1))]}.png"
+  done
+} > "$work/stages.txt"
+xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$scene" --size 320x320 --script "$work/stages.txt"
+# Hard shadow edges (blue) need punctual lights: the edges view of rooms.gltf, and its final image.
+printf 'wait 60\nscreenshot %s\nkey F3\nwait 2\nscreenshot %s\n' "$images/rooms-final.png" "$images/rooms-edges.png" > "$work/rooms.txt"
+xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$root/scenes/rooms.gltf" --size 320x240 --script "$work/rooms.txt"
+
+# The whole window at 960x600: the short block selected (outlined), then the reachability view
+# with the hovered pixel's 5x5 drawn large in the panel.
+cat > "$work/window.txt" <<SCRIPT
+wait 60
+click left 555 470
+wait 30
+window-screenshot $images/window.png
+key F5
+move 540 401
+wait 20
+window-screenshot $images/window-reachability.png
+SCRIPT
+xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$scene" --size 960x600 --script "$work/window.txt"
+
+# 2. Benchmarks: --benchmark orbits the camera a little every window frame.
+machine="$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), load $(cut -d' ' -f1-3 /proc/loadavg)"
+table="| size | window fps | frame loop fps (median ms) | display: texture upload from the frame's PBO (median / max ms) | with glFinish (median / max ms) | input to screen (median / p90 ms) |"$'\n'"|---|---|---|---|---|---|"
+for size in 512x512 1920x1080; do
+  out=$(xvfb-run -a -s "-screen 0 1920x1200x24" "$viewer" "$scene" --size "$size" --benchmark 300 --ui-fps 60)
+  wfps=$(sed -n 's/^BENCHMARK_WINDOW_FPS \([0-9.]*\).*/\1/p' <<<"$out")
+  rfps=$(sed -n 's/^BENCHMARK_RENDER_FPS \([0-9.]*\).*frame-loop ms: median \([0-9.]*\).*/\1 (\2)/p' <<<"$out")
+  disp=$(sed -n 's/^BENCHMARK_DISPLAY_MS median \([0-9.]*\), max \([0-9.]*\) .*with glFinish median \([0-9.]*\), max \([0-9.]*\)/\1 \/ \2|\3 \/ \4/p' <<<"$out")
+  lat=$(sed -n 's/^BENCHMARK_LATENCY_MS median \([0-9.]*\), p90 \([0-9.]*\).*/\1 \/ \2/p' <<<"$out")
+  table+=$'\n'"| $size | $wfps | $rfps | ${disp%%|*} | ${disp##*|} | $lat |"
+done
+block="<!-- viewer-benchmark:begin (tools/viewer-figures.sh writes this) -->"$'\n'"Measured $(date -u +%Y-%m-%d) on $machine; \`epi-viewer scenes/cornell_box.gltf --size WxH --benchmark 300\` under \`xvfb-run\` (Mesa llvmpipe), epi mode, direct shader, budget 0.02."$'\n\n'"$table"$'\n'"<!-- viewer-benchmark:end -->"
+BLOCK="$block" /usr/bin/python3 - "$root/docs/viewer.md" <<'PY'
+import os, re, sys
+path = sys.argv[1]
+text = open(path).read()
+new = re.sub(r"<!-- viewer-benchmark:begin.*?<!-- viewer-benchmark:end -->", lambda m: os.environ["BLOCK"], text, flags=re.S)
+open(path, "w").write(new)
+PY
+echo "wrote $images and the benchmark table of docs/viewer.md"
