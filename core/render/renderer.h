@@ -104,7 +104,6 @@ class FrameRenderer {
   const EpiImage& epi() const { return epi_; }  // this frame's EPI, classified (types, reachability)
   const FrameSettings& settings() const { return settings_; }
   const std::vector<Segment>& segments() const { return segments_; }  // this frame's visible edge pieces
-  const EpiImage& epi() const { return epi_; }                // this frame's EPI (classified)
   const BoundaryMasks& masks() const { return masks_; }       // and its boundary masks (EPI snapshots)
   const std::vector<edges::EdgeKind>& segment_kinds() const { return segment_kinds_; }  // one per piece
   const std::vector<float>& filtered_depth() const { return filtered_depth_; }
