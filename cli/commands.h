@@ -26,6 +26,7 @@ namespace epi::cli {
 struct InfoOptions {
   std::string scene;
   int subdiv_level = -1;  // -1: as the scene says
+  uint64_t memory_limit = kDefaultMemoryLimit;  // --memory-limit, bytes
 };
 int run_info(const InfoOptions& options);
 
@@ -55,6 +56,7 @@ struct ReconstructOptions {
   std::string stats;
   int threads = 0;
   bool quiet = false;
+  uint64_t memory_limit = kDefaultMemoryLimit;  // --memory-limit, bytes
 };
 int run_reconstruct(const ReconstructOptions& options);
 
@@ -68,6 +70,7 @@ struct EdgesOptions {
   std::string stats;
   int subdiv_level = -1;
   int threads = 0;
+  uint64_t memory_limit = kDefaultMemoryLimit;  // --memory-limit, bytes
 };
 int run_edges(const EdgesOptions& options);
 

@@ -75,6 +75,7 @@ int run_edges(const EdgesOptions& options) {
   auto stage = Clock::now();
   LoadOptions load_options;
   load_options.subdiv_level_override = options.subdiv_level;
+  load_options.memory_limit = options.memory_limit;
   const Scene scene = load_scene(options.scene, load_options);
   const double load_ms = ms_since(stage);
   report_repairs(scene, false);
@@ -165,6 +166,8 @@ int run_edges(const EdgesOptions& options) {
         {"triangles", scene.triangle_count()},
         {"counts", count_json},
         {"triples", triples.size()},
+        {"triple_tests", finder.triple_tests()},
+        {"receiver_searches", finder.receiver_searches()},
         {"meshes", meshes},
         {"memory_bytes", finder.memory_bytes()},
         {"stages_ms",

@@ -27,6 +27,7 @@ std::string format_bytes(size_t bytes) {
 int run_info(const InfoOptions& options) {
   LoadOptions load_options;
   load_options.subdiv_level_override = options.subdiv_level;
+  load_options.memory_limit = options.memory_limit;
   const Scene scene = load_scene(options.scene, load_options);
 
   size_t unique_edges = 0, border_edges = 0, non_manifold_edges = 0, welded_vertices = 0, edge_bytes = 0;

@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   info_cmd->add_option("scene", info.scene, "glTF 2.0 scene (.gltf or .glb)")->required();
   info_cmd->add_option("--subdiv-level", info.subdiv_level, "Override the subdivision level of every subdivided mesh")
       ->check(CLI::Range(0, 8));
+  add_memory_limit_option(*info_cmd, info.memory_limit);
 
   RenderOptions render;
   CLI::App* render_cmd = app.add_subcommand(
@@ -58,7 +59,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.001f, 1000.0f))
       ->capture_default_str();
   compare_cmd->add_option("--exposure", compare.exposure, "Exposure in stops taking linear images to display space, as for PNG output")
-      ->check(CLI::Range(-32.0f, 32.0f))
+      ->check(kFinite & CLI::Range(-32.0f, 32.0f))
       ->capture_default_str();
 
 #ifdef EPI_WITH_RECONSTRUCT
@@ -67,7 +68,7 @@ int main(int argc, char** argv) {
       app.add_subcommand("reconstruct", "2D harness: sample a polygon pattern sparsely and reconstruct it with the EPI filters");
   reconstruct_cmd->add_option("pattern", reconstruct.pattern, "PATTERN.json (polygons in pixel units)")->required();
   reconstruct_cmd->add_option("--density", reconstruct.density, "Fraction of pixels that get one sample")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(kFinite & CLI::Range(0.0, 1.0))
       ->capture_default_str();
   reconstruct_cmd->add_option("--filter", reconstruct.filter, "epi: edge-respecting; rendercache: the render cache's")
       ->check(CLI::IsMember({"epi", "rendercache"}))
@@ -79,6 +80,7 @@ int main(int argc, char** argv) {
   reconstruct_cmd->add_option("--stats", reconstruct.stats, "Write timings and pixel classes as JSON");
   reconstruct_cmd->add_option("--threads", reconstruct.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
   reconstruct_cmd->add_flag("--quiet", reconstruct.quiet, "No progress output");
+  add_memory_limit_option(*reconstruct_cmd, reconstruct.memory_limit);
 #endif
 
 #ifdef EPI_WITH_EDGES
@@ -92,6 +94,7 @@ int main(int argc, char** argv) {
   edges_cmd->add_option("--stats", edges.stats, "Counts by kind and timings as JSON");
   edges_cmd->add_option("--subdiv-level", edges.subdiv_level, "Override the subdivision level")->check(CLI::Range(0, 8));
   edges_cmd->add_option("--threads", edges.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 1024));
+  add_memory_limit_option(*edges_cmd, edges.memory_limit);
 #endif
 
   try {

@@ -50,6 +50,12 @@ void check_output_file(const fs::path& file) {
     throw std::runtime_error(file.string() + ": output folder '" + folder.string() + "' is not writable");
   if (fs::exists(file, ec) && ::access(file.c_str(), W_OK) != 0)
     throw std::runtime_error(file.string() + ": exists and is not writable");
+  // access() says yes to root everywhere, and to folders (/proc, read-only mounts) where no file
+  // can be made: create and remove a probe file, as the staged output will later.
+  const fs::path probe = folder / (".tmp-" + std::to_string(::getpid()) + "-probe");
+  if (!std::ofstream(probe, std::ios::binary))
+    throw std::runtime_error(file.string() + ": cannot create a file in folder '" + folder.string() + "'");
+  fs::remove(probe, ec);
 }
 
 void check_distinct_outputs(const std::vector<std::string>& files) {
@@ -65,8 +71,8 @@ void check_distinct_outputs(const std::vector<std::string>& files) {
 }
 
 void check_output_image(const fs::path& file) {
-  check_output_path(file);  // the extension
   check_output_file(file);
+  check_output_path(file);  // the extension
 }
 
 void check_not_input(const std::vector<std::string>& outputs, const std::string& input) {

@@ -39,6 +39,11 @@ int run_render(const RenderOptions& options) {
   check_distinct_outputs({options.output, options.stats});
   check_not_input({options.output, options.stats}, options.reference);
   const ShaderSettings settings = shader_settings(options);
+  // One float image and the writer's copy: ~12 bytes a pixel measured (peak RSS, 2048x2048 less 512x512).
+  constexpr double kBytesPerPixel = 24.0;
+  check_memory_estimate("--size " + std::to_string(options.width) + "x" + std::to_string(options.height),
+                        "a " + options.mode + " image", kBytesPerPixel * options.width * options.height,
+                        options.memory_limit);
   std::optional<ReferenceImage> reference;  // read and its size checked before work
   if (!options.reference.empty()) reference = read_reference(options.reference, options.width, options.height);
 
@@ -50,6 +55,7 @@ int run_render(const RenderOptions& options) {
   auto stage = Clock::now();
   LoadOptions load_options;
   load_options.subdiv_level_override = options.subdiv_level;
+  load_options.memory_limit = options.memory_limit;
   const Scene scene = load_scene(options.scene, load_options);
   const double load_ms = ms_since(stage);
   report_repairs(scene, options.quiet);

@@ -2,8 +2,10 @@
 // same flags through add_render_options (CLI11 is slow to compile: few files include it).
 #include <CLI/CLI.hpp>
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <sstream>
 
@@ -45,7 +47,36 @@ void add_vec3_option(CLI::App& app, const std::string& name, std::optional<glm::
       ->type_name("X,Y,Z");
 }
 
+// Parses "WxH" with both in [1, 16384]; digits only (no sign, no overflow: from_chars checks the range).
+bool parse_size(const std::string& text, int& width, int& height) {
+  const size_t x = text.find_first_of("xX");
+  if (x == std::string::npos) return false;
+  auto number = [](const char* first, const char* last, int& out) {
+    if (first == last || *first < '0' || *first > '9') return false;
+    const auto [end, error] = std::from_chars(first, last, out);
+    return error == std::errc() && end == last && out >= 1 && out <= 16384;
+  };
+  return number(text.data(), text.data() + x, width) && number(text.data() + x + 1, text.data() + text.size(), height);
+}
+
 }  // namespace
+
+const CLI::Validator kFinite(
+    [](std::string& text) {
+      const double v = std::strtod(text.c_str(), nullptr);
+      return std::isfinite(v) ? std::string() : "expected a finite number, got '" + text + "'";
+    },
+    "FINITE");
+
+void add_memory_limit_option(CLI::App& app, uint64_t& limit_bytes) {
+  app.add_option_function<double>(
+         "--memory-limit",
+         [&limit_bytes](double gib) { limit_bytes = uint64_t(gib * double(uint64_t(1) << 30)); },
+         "Refuse work estimated to need more memory than this many GiB (default " +
+             std::to_string(kDefaultMemoryLimit >> 30) + "; docs/reliability.md)")
+      ->check(kFinite & CLI::Range(0.001, 1e6))
+      ->type_name("GIB");
+}
 
 void add_camera_options(CLI::App& app, CameraOverride& camera) {
   add_vec3_option(app, "--eye", camera.eye, "Camera position (overrides the scene's default camera)");
@@ -53,7 +84,7 @@ void add_camera_options(CLI::App& app, CameraOverride& camera) {
   add_vec3_option(app, "--up", camera.up, "Camera up vector");
   app.add_option_function<float>(
          "--fov", [&camera](float v) { camera.fov_degrees = v; }, "Vertical field of view in degrees")
-      ->check(CLI::Range(0.01f, 179.0f));
+      ->check(kFinite & CLI::Range(0.01f, 179.0f));
 }
 
 void add_size_option(CLI::App& app, int& width, int& height) {
@@ -61,9 +92,7 @@ void add_size_option(CLI::App& app, int& width, int& height) {
          "--size",
          [&width, &height](const std::string& text) {
            int w = 0, h = 0;
-           char x = 0, extra = 0;
-           if (std::sscanf(text.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 ||
-               h < 1 || w > 16384 || h > 16384)
+           if (!parse_size(text, w, h))
              throw CLI::ValidationError("--size", "expected WxH with 1..16384, got '" + text + "'");
            width = w;
            height = h;
@@ -85,7 +114,7 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
                  "Shade exactly the sample budget inside every frame: the same bytes for the same seed. Default: "
                  "asynchronous, as interactively (the shader runs beside the frame loop; timing-dependent)");
     app.add_option("--sample-budget", render.sample_budget, "Fraction of the pixels shaded per frame")
-        ->check(CLI::Range(0.0, 1.0))
+        ->check(kFinite & CLI::Range(0.0, 1.0))
         ->capture_default_str();
     app.add_option("--camera-path", render.camera_path, "Camera keys per frame (docs/camera-path.md)");
     app.add_flag("--soft-shadow-edges", render.soft_shadow_edges,
@@ -98,6 +127,7 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
         ->capture_default_str();
   }
   add_size_option(app, render.width, render.height);
+  add_memory_limit_option(app, render.memory_limit);
   app.add_option("--spp", render.spp, "Samples per pixel (reference mode)")->check(CLI::Range(1, 1 << 20))->capture_default_str();
   app.add_option("--shader", render.shader, "direct: lights and soft shadows; glossy: + glossy reflection; gi: + path-traced indirect")
       ->check(CLI::IsMember({"direct", "glossy", "gi"}))
@@ -107,7 +137,7 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
   app.add_option("--exposure", render.exposure,
                  "Exposure in stops for 8-bit outputs (.png): linear * 2^stops, then a highlight shoulder above "
                  "0.8 that keeps hue, then sRGB. EXR is written linear, untouched")
-      ->check(CLI::Range(-32.0f, 32.0f))
+      ->check(kFinite & CLI::Range(-32.0f, 32.0f))
       ->capture_default_str();
   app.add_option("--area-light-samples", render.shading.area_light_samples, "Shadow rays to area lights per hit")
       ->check(CLI::Range(1, 4096))

@@ -49,6 +49,10 @@ Camera apply_camera_override(const Scene& scene, const CameraOverride& override_
   if (override_.target) camera.target = *override_.target;
   if (override_.up) camera.up = *override_.up;
   if (override_.fov_degrees) camera.yfov_degrees = *override_.fov_degrees;
+  const std::string problem = camera_problem(camera);
+  if (!problem.empty())
+    throw std::invalid_argument(scene.source + ": camera '" + camera.name + "'" +
+                                (override_.any() ? " with --eye/--target/--up/--fov" : "") + ": " + problem);
   return camera;
 }
 

@@ -9,10 +9,12 @@
 
 #include <glm/glm.hpp>
 
+#include "image/resource_limit.h"
 #include "shade/shader.h"
 
 namespace CLI {
 class App;
+class Validator;
 }
 namespace epi {
 struct Scene;
@@ -44,6 +46,7 @@ struct RenderOptions {
   float exposure = 0.0f;  // stops, for 8-bit outputs (io/image tone map)
   bool quiet = false;
   int subdiv_level = -1;
+  uint64_t memory_limit = kDefaultMemoryLimit;  // --memory-limit, bytes (docs/reliability.md)
   CameraOverride camera;
   // The frame loop (modes epi and rendercache):
   int frames = 60;
@@ -71,5 +74,9 @@ void add_render_options(CLI::App& app, RenderOptions& options, bool with_frame_l
 // The camera flags (--eye, --target, --up, --fov) and --size alone (epi edges).
 void add_camera_options(CLI::App& app, CameraOverride& camera);
 void add_size_option(CLI::App& app, int& width, int& height);
+// --memory-limit GIB (info, edges and reconstruct take it too), and the check that a real-valued
+// flag is finite (CLI::Range lets NaN through: every comparison with it is false).
+void add_memory_limit_option(CLI::App& app, uint64_t& limit_bytes);
+extern const CLI::Validator kFinite;
 
 }  // namespace epi::cli

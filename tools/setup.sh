@@ -13,6 +13,7 @@ packages=(
   libembree-dev libtbb-dev libglfw3-dev libglm-dev libopenimageio-dev libosd-dev
   libtinygltf-dev nlohmann-json3-dev libhwy-dev libgtest-dev libbenchmark-dev libimgui-dev
   libcli11-dev xvfb libgl-dev libgl1-mesa-dri mesa-utils libcairo2-dev libgif-dev libpng-dev xdotool
+  clang libclang-rt-14-dev  # the sanitizer and fuzz builds of tools/test.sh
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -12,6 +12,7 @@
 #include <tbb/global_control.h>
 
 #include "edges/edge_tree.h"
+#include "edges/scene_edges.h"
 #include "edges/shadow_events.h"
 #include "load_scene.h"
 #include "test_meshes.h"
@@ -161,7 +162,30 @@ void BM_AreaEvents(benchmark::State& state) {
   state.counters["events"] = double(events.size());
 }
 
+// Shadow edges of a whole scene from scratch (epi edges without a shader's triples): triples by
+// bounds, then every pair's events over its receivers, for n boxes on a floor (issue 14: this
+// grew quadratically with instances). Counters: the work, which should grow about as n.
+void BM_SceneShadows(benchmark::State& state) {
+  const Scene scene = test::boxes_on_a_floor(int(state.range(0)));
+  size_t triples = 0, edges = 0;
+  uint64_t tests = 0, searches = 0;
+  for (auto _ : state) {
+    SceneEdgeFinder finder(scene);
+    const auto found = finder.find_triples(scene);
+    std::vector<SceneEdge> out;
+    finder.shadow_edges(scene, found, out);
+    triples = found.size(), edges = out.size(), tests = finder.triple_tests(), searches = finder.receiver_searches();
+  }
+  state.counters["objects"] = double(scene.objects.size());
+  state.counters["triples"] = double(triples);
+  state.counters["triple_tests"] = double(tests);
+  state.counters["receiver_searches"] = double(searches);
+  state.counters["shadow_edges"] = double(edges);
+}
+
 void register_all() {
+  for (int n : {100, 400, 1600})
+    benchmark::RegisterBenchmark("SceneShadows", BM_SceneShadows)->Arg(n)->Unit(benchmark::kMillisecond)->UseRealTime();
   for (size_t i = 0; i < cases().size(); ++i) {
     benchmark::RegisterBenchmark("EdgeMesh", BM_EdgeMesh)->Arg(int64_t(i))->Unit(benchmark::kMillisecond);
     for (int threads : {1, 2})

@@ -45,6 +45,81 @@ bool in_shadow_cone(const glm::dvec3& apex, double light_radius, const Sphere& b
   return gamma <= alpha + beta + 1e-9;
 }
 
+// A bounding-sphere hierarchy over the objects' world spheres, so that finding the receivers of
+// one (light, blocker) pair costs about log(objects) + receivers instead of one test per object.
+// Both tests used with it (the shadow cone, the directional cylinder) are monotone: a sphere that
+// contains another meets the volume whenever the inner one does, so a node that fails prunes its
+// subtree exactly.
+class SphereTree {
+ public:
+  explicit SphereTree(const std::vector<Sphere>& spheres) : spheres_(spheres) {
+    for (uint32_t i = 0; i < spheres.size(); ++i)
+      if (spheres[i].radius > 0.0) order_.push_back(i);
+    if (!order_.empty()) nodes_.resize(1), build(0, 0, uint32_t(order_.size()));
+  }
+
+  // Calls found(object) for every object whose sphere passes meets(sphere); counts the tests.
+  template <class Meets, class Found>
+  void query(const Meets& meets, const Found& found, uint64_t& tests) const {
+    if (nodes_.empty()) return;
+    uint32_t stack[128];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const Node& node = nodes_[stack[--top]];
+      ++tests;
+      if (!meets(node.bound)) continue;
+      if (node.count > 0) {
+        for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+          ++tests;
+          if (meets(spheres_[order_[k]])) found(order_[k]);
+        }
+      } else if (top + 2 <= 128) {
+        stack[top++] = node.left, stack[top++] = node.left + 1;
+      }
+    }
+  }
+
+ private:
+  struct Node {
+    Sphere bound;
+    uint32_t first = 0, count = 0, left = 0;  // a leaf when count > 0; else children left, left + 1
+  };
+
+  void build(uint32_t index, uint32_t first, uint32_t last) {
+    glm::dvec3 lo(INFINITY), hi(-INFINITY);
+    for (uint32_t k = first; k < last; ++k) {
+      const Sphere& s = spheres_[order_[k]];
+      lo = glm::min(lo, s.centre - s.radius), hi = glm::max(hi, s.centre + s.radius);
+    }
+    Sphere bound{0.5 * (lo + hi), 0.0};
+    for (uint32_t k = first; k < last; ++k) {
+      const Sphere& s = spheres_[order_[k]];
+      bound.radius = std::max(bound.radius, glm::length(s.centre - bound.centre) + s.radius);
+    }
+    nodes_[index].bound = {bound.centre, bound.radius * (1.0 + 1e-9) + 1e-12};
+    if (last - first <= 4) {
+      nodes_[index].first = first, nodes_[index].count = last - first;
+      return;
+    }
+    // Median splits: depth stays below log2(objects) + 1, well inside the query's stack.
+    const glm::dvec3 extent = hi - lo;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : extent.y >= extent.z ? 1 : 2;
+    const uint32_t middle = first + (last - first) / 2;
+    std::nth_element(order_.begin() + first, order_.begin() + middle, order_.begin() + last,
+                     [&](uint32_t a, uint32_t b) { return spheres_[a].centre[axis] < spheres_[b].centre[axis]; });
+    const uint32_t left = uint32_t(nodes_.size());
+    nodes_.resize(nodes_.size() + 2);
+    nodes_[index].left = left;
+    build(left, first, middle);
+    build(left + 1, middle, last);
+  }
+
+  const std::vector<Sphere>& spheres_;
+  std::vector<uint32_t> order_;
+  std::vector<Node> nodes_;
+};
+
 bool same_light(const EdgeLight& a, const EdgeLight& b) {
   return a.type == b.type && a.position == b.position && a.direction == b.direction && a.outlines == b.outlines &&
          a.object == b.object && a.cone_cos == b.cone_cos;
@@ -195,8 +270,11 @@ void SceneEdgeFinder::view_edges(const Scene& scene, const glm::dvec3& eye, std:
 std::vector<LightBlockerReceiver> SceneEdgeFinder::find_triples(const Scene& scene) const {
   std::vector<Sphere> spheres;
   for (const Object& o : scene.objects) spheres.push_back(world_sphere(meshes_[o.mesh].edges, glm::dmat4(o.object_to_world)));
+  const SphereTree tree(spheres);
   const std::vector<EdgeLight> lights = scene_lights(scene, nullptr);
   std::vector<LightBlockerReceiver> triples;
+  std::vector<uint32_t> receivers;
+  uint64_t tests = 0;
   for (uint32_t l = 0; l < lights.size(); ++l) {
     const EdgeLight& light = lights[l];
     glm::dvec3 apex(0.0);
@@ -214,21 +292,26 @@ std::vector<LightBlockerReceiver> SceneEdgeFinder::find_triples(const Scene& sce
     }
     for (uint32_t b = 0; b < scene.objects.size(); ++b) {
       if (b == light.object || spheres[b].radius == 0.0) continue;
-      for (uint32_t r = 0; r < scene.objects.size(); ++r) {
-        if (r == light.object) continue;
-        bool meets = r == b;
-        if (!meets && light.type == EdgeLight::Type::directional) {
-          const glm::dvec3 offset = spheres[r].centre - spheres[b].centre;
+      const Sphere& blocker = spheres[b];
+      receivers.clear();
+      auto meets = [&](const Sphere& receiver) {
+        if (light.type == EdgeLight::Type::directional) {  // before or beyond: see in_shadow_cone
+          const glm::dvec3 offset = receiver.centre - blocker.centre;
           const double along = glm::dot(offset, light.direction);
-          const double reach = spheres[b].radius + spheres[r].radius;
-          meets = glm::length(offset - along * light.direction) <= reach;  // before or beyond: see in_shadow_cone
-        } else if (!meets) {
-          meets = in_shadow_cone(apex, light_radius, spheres[b], spheres[r]);
+          return glm::length(offset - along * light.direction) <= blocker.radius + receiver.radius;
         }
-        if (meets) triples.push_back({l, b, r});
-      }
+        return in_shadow_cone(apex, light_radius, blocker, receiver);
+      };
+      tree.query(meets, [&](uint32_t r) { receivers.push_back(r); }, tests);
+      // Every object meets its own shadow volume; objects without a sphere (no positions) never do.
+      std::sort(receivers.begin(), receivers.end());
+      if (!std::binary_search(receivers.begin(), receivers.end(), b))
+        receivers.insert(std::upper_bound(receivers.begin(), receivers.end(), b), b);
+      for (uint32_t r : receivers)
+        if (r != light.object) triples.push_back({l, b, r});
     }
   }
+  triple_tests_ = tests;
   return triples;
 }
 
@@ -262,14 +345,18 @@ void SceneEdgeFinder::shadow_edges(const Scene& scene, std::span<const LightBloc
       std::vector<ReceiverView> receivers;
       for (const auto& [r, transform] : state.receivers) {
         const MeshData& data = meshes_[scene.objects[r].mesh];
-        receivers.push_back({&data.edges, &data.receivers, transform, glm::inverse(transform), r});
+        const Sphere bound = world_sphere(data.edges, transform);
+        receivers.push_back({&data.edges, &data.receivers, transform, glm::inverse(transform), r, bound.centre,
+                             bound.radius > 0.0 ? bound.radius : INFINITY});
       }
       // Events in parallel, each into its own list: the same output whatever the thread count.
       std::vector<std::vector<ShadowEdge>> per_event(events.size());
+      std::vector<size_t> searched(events.size());
       tbb::parallel_for(tbb::blocked_range<size_t>(0, events.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t e = range.begin(); e != range.end(); ++e)
-          shadow_edges_of_event(events[e], uint32_t(e), receivers, per_event[e]);
+          searched[e] = shadow_edges_of_event(events[e], uint32_t(e), receivers, per_event[e]);
       });
+      for (size_t n : searched) receiver_searches_ += n;
       for (auto& list : per_event)
         for (const ShadowEdge& e : list) clip_to_cone(e, state.light, state.edges);
     }

@@ -78,6 +78,11 @@ class SceneEdgeFinder {
   // reused while its light, blocker and receivers keep their transforms.
   void shadow_edges(const Scene& scene, std::span<const LightBlockerReceiver> triples, std::vector<SceneEdge>& out);
   size_t pairs_recomputed() const { return pairs_recomputed_; }
+  // Work counters (docs/reliability.md): sphere tests of the last find_triples; receivers whose
+  // faces were searched for an event, over all shadow_edges calls (the rest were culled by their
+  // bounding sphere against the event's plane).
+  uint64_t triple_tests() const { return triple_tests_; }
+  uint64_t receiver_searches() const { return receiver_searches_; }
 
  private:
   struct MeshData {
@@ -101,6 +106,8 @@ class SceneEdgeFinder {
   std::vector<std::string> light_names_;
   std::map<std::pair<uint32_t, uint32_t>, PairState> pairs_;
   size_t pairs_recomputed_ = 0;
+  mutable uint64_t triple_tests_ = 0;
+  uint64_t receiver_searches_ = 0;
   double build_ms_ = 0.0;
 };
 

@@ -126,14 +126,18 @@ glm::dvec2 event_coordinates(const ShadowEvent& event, const glm::dvec3& point) 
   return {u, glm::dot(x - frame.ray_origin(u), d) / glm::dot(d, d)};
 }
 
-void shadow_edges_of_event(const ShadowEvent& event, uint32_t event_index, std::span<const ReceiverView> receivers,
-                           std::vector<ShadowEdge>& out) {
-  if (glm::length(event.normal()) == 0.0) return;
+size_t shadow_edges_of_event(const ShadowEvent& event, uint32_t event_index, std::span<const ReceiverView> receivers,
+                             std::vector<ShadowEdge>& out) {
+  if (glm::length(event.normal()) == 0.0) return 0;
   const EventFrame frame(event);
-  if (!std::isfinite(frame.normal.x)) return;
+  if (!std::isfinite(frame.normal.x)) return 0;
   std::vector<Candidate> candidates;
+  size_t searched = 0;
 
   for (const ReceiverView& r : receivers) {
+    // The event lies in its plane: a receiver whose sphere misses the plane has no face there.
+    if (std::abs(glm::dot(frame.normal, r.bound_centre - event.blocker0)) > r.bound_radius) continue;
+    ++searched;
     const EdgeMesh& m = *r.mesh;
     // The event plane and the light in the receiver's object space.
     const glm::dvec3 p0 = transform_point(r.world_to_object, event.blocker0);
@@ -220,7 +224,7 @@ void shadow_edges_of_event(const ShadowEvent& event, uint32_t event_index, std::
       add(std::span(frame.before, frame.before_count), true);
     });
   }
-  if (candidates.empty()) return;
+  if (candidates.empty()) return searched;
 
   // 1D visibility along u: cut at every candidate end and wherever two candidates that overlap in
   // u cross (interpenetrating receivers); on each interval between cuts the nearest candidate
@@ -271,6 +275,7 @@ void shadow_edges_of_event(const ShadowEvent& event, uint32_t event_index, std::
     out.push_back({a, b, c.receiver, c.face, event.blocker, event.light, event.kind, event_index});
     previous = best;
   }
+  return searched;
 }
 
 }  // namespace epi::edges

@@ -1,6 +1,7 @@
 #include "epi/pattern.h"
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -52,6 +53,8 @@ Pattern parse_pattern(const std::string& text, const std::string& name) {
     j = json::parse(text);
   } catch (const json::parse_error& e) {
     throw PatternError(name + ": not valid JSON (byte " + std::to_string(e.byte) + ")");
+  } catch (const json::exception&) {  // out_of_range.406: a number too large for a double (1e400)
+    throw PatternError(name + ": a number is too large for a double");
   }
   if (!j.is_object()) throw PatternError(name + ": expected a JSON object");
   Pattern p;
@@ -92,6 +95,8 @@ Pattern parse_pattern(const std::string& text, const std::string& name) {
 }
 
 Pattern load_pattern(const std::string& file) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) throw PatternError(file + ": is a folder, not a pattern file");
   std::ifstream in(file, std::ios::binary);
   if (!in) throw PatternError(file + ": cannot open");
   std::ostringstream text;

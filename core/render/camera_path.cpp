@@ -109,7 +109,7 @@ CameraPath parse_camera_path(std::string_view text, const std::string& source, c
         }
       }
       if (!eye || !target) fail("a camera key needs 'eye' and 'target'");
-      if (!(glm::length(key.camera.target - key.camera.eye) > 0.0f)) fail("eye and target coincide");
+      if (const std::string problem = camera_problem(key.camera); !problem.empty()) fail(problem);
       path.cameras.push_back(key);
     } else if (kind == "object") {
       std::string name, field;

@@ -1,6 +1,7 @@
 #include "scene/scene.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace epi {
 
@@ -20,6 +21,24 @@ size_t AreaLight::memory_bytes() const {
                  triangle_materials.capacity() * sizeof(uint32_t) + triangle_cdf.capacity() * sizeof(float);
   for (const auto& loop : outlines) bytes += loop.capacity() * sizeof(glm::vec3);
   return bytes;
+}
+
+std::string camera_problem(const Camera& camera) {
+  if (!(camera.yfov_degrees > 0.0f && camera.yfov_degrees < 180.0f))
+    return "vertical field of view " + std::to_string(camera.yfov_degrees) + " is not in (0, 180) degrees";
+  if (!(camera.znear > 0.0f) || !std::isfinite(camera.znear)) return "znear must be finite and > 0";
+  const glm::dvec3 eye(camera.eye), target(camera.target), up(camera.up);
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(eye[k]) || !std::isfinite(target[k])) return "eye or target is not finite";
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(up[k])) return "up is not finite";
+  const glm::dvec3 to_target = target - eye;  // finite: float values differ by less than 2 * FLT_MAX
+  const double distance = glm::length(to_target), up_length = glm::length(up);
+  if (!(distance > 0.0)) return "eye and target coincide";
+  if (!(up_length > 0.0)) return "up is zero";
+  // sin of the angle between up and the view direction; below ~1e-6 float rounding decides the side.
+  if (!(glm::length(glm::cross(to_target / distance, up / up_length)) > 1e-6)) return "up is parallel to the view direction";
+  return "";
 }
 
 size_t Scene::triangle_count() const {

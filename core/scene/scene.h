@@ -108,6 +108,12 @@ struct Camera {
   float znear = 0.01f;
 };
 
+// Why `camera` cannot be used, or "" when it can: a field of view outside (0, 180) degrees,
+// a non-finite or non-positive znear, eye and target that are not finite or coincide, an up
+// vector that is zero or parallel to the view direction. Lengths are computed in double, so
+// large but finite coordinates (1e30, 3e38) are fine.
+std::string camera_problem(const Camera& camera);
+
 struct Bounds {
   glm::vec3 min{1e30f}, max{-1e30f};
   void extend(const glm::vec3& p) { min = glm::min(min, p); max = glm::max(max, p); }

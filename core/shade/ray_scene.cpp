@@ -1,5 +1,10 @@
 #include "shade/ray_scene.h"
 
+#include <algorithm>
+#include <cmath>
+
+#include "shade/view.h"
+
 #include <xmmintrin.h>
 
 #include <stdexcept>
@@ -53,6 +58,12 @@ RayScene::RayScene(const Scene& scene) : scene_(scene) {
     if (scene.objects[o].mesh >= scene.meshes.size())
       throw std::runtime_error(label + ": object '" + scene.objects[o].name + "' refers to mesh " +
                                std::to_string(scene.objects[o].mesh) + " of " + std::to_string(scene.meshes.size()));
+  const Bounds bounds = scene.world_bounds();
+  for (int k = 0; k < 3 && !bounds.empty(); ++k)
+    if (!(std::max(std::abs(bounds.min[k]), std::abs(bounds.max[k])) <= kMaxRayCoordinate))
+      throw std::runtime_error(label + ": the scene reaches " +
+                               std::to_string(std::max(std::abs(bounds.min[k]), std::abs(bounds.max[k]))) +
+                               " from the origin, beyond the ray tracer's range (1e18)");
   for (const AreaLight& light : scene.area_lights) {
     if (light.object >= scene.objects.size())
       throw std::runtime_error(label + ": area light refers to object " + std::to_string(light.object) + " of " +

@@ -19,13 +19,24 @@ ViewFrame::ViewFrame(const View& view) : view_(view) {
   if (!(c.yfov_degrees > 0.0f && c.yfov_degrees < 180.0f))
     throw std::invalid_argument(camera_label(c) + ": vertical field of view " + std::to_string(c.yfov_degrees) +
                                 " is not in (0, 180) degrees");
-  glm::vec3 to_target = c.target - c.eye;
-  float distance = glm::length(to_target);
-  if (!(distance > 0.0f) || !std::isfinite(distance))
+  for (int k = 0; k < 3; ++k)
+    if (!(std::abs(c.eye[k]) <= kMaxRayCoordinate))
+      throw std::invalid_argument(camera_label(c) + ": eye coordinate " + std::to_string(c.eye[k]) +
+                                  " is beyond the ray tracer's range (1e18)");
+  // Validity in double: the float difference and its square overflow for large but finite
+  // coordinates. The basis stays the float computation it always was (the same bits for every
+  // ordinary camera); the double one only replaces a float result that overflowed.
+  const glm::dvec3 to_target_d = glm::dvec3(c.target) - glm::dvec3(c.eye);
+  const double distance = glm::length(to_target_d);
+  if (!(distance > 0.0) || !std::isfinite(distance))
     throw std::invalid_argument(camera_label(c) + ": eye and target coincide or are not finite");
-  forward_ = to_target / distance;
+  const glm::vec3 to_target = c.target - c.eye;
+  const float distance_f = glm::length(to_target);
+  forward_ = std::isfinite(distance_f) && distance_f > 0.0f ? to_target / distance_f : glm::vec3(to_target_d / distance);
   glm::vec3 side = glm::cross(forward_, c.up);
-  if (!(glm::length(side) > 1e-6f)) {  // up parallel to the view direction: pick any perpendicular
+  if (!std::isfinite(glm::length(side)))  // a huge up vector
+    side = glm::vec3(glm::cross(glm::dvec3(forward_), glm::dvec3(c.up) / glm::length(glm::dvec3(c.up))));
+  if (!(glm::length(side) > 1e-6f)) {  // up zero or parallel to the view direction: pick any perpendicular
     glm::vec3 axis = std::abs(forward_.y) < 0.9f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
     side = glm::cross(forward_, axis);
   }

@@ -6,6 +6,10 @@
 
 namespace epi {
 
+// Embree refuses rays whose origin or direction has a component beyond FLT_LARGE (1.844e18): the
+// camera and the scene's world bounds must stay within this distance of the origin.
+inline constexpr float kMaxRayCoordinate = 1e18f;
+
 struct View {
   Camera camera;
   int width = 512, height = 512;

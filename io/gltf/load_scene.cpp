@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -13,6 +14,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -68,6 +70,8 @@ struct FileContents {
   std::vector<unsigned char> bytes;
   bool binary = false;
   std::string json_text;
+  uint64_t bin_chunk_bytes = 0;  // GLB: the BIN chunk's length (0 when there is none)
+  bool has_bin_chunk = false;
 };
 
 uint32_t read_u32(const std::vector<unsigned char>& bytes, size_t offset) {
@@ -100,14 +104,76 @@ FileContents read_file(const std::filesystem::path& file) {
     fail("GLB header says " + std::to_string(read_u32(b, 8)) + " bytes, file has " + std::to_string(b.size()));
   const uint64_t json_length = read_u32(b, 12);
   if (read_u32(b, 16) != 0x4E4F534Au) fail("GLB: first chunk is not JSON");
+  if (json_length == 0) fail("GLB: the JSON chunk is empty");
   if (20 + json_length > b.size()) fail("GLB: JSON chunk runs past the end of the file");
   const uint64_t bin_start = 20 + json_length;
   if (bin_start < b.size()) {
     if (bin_start + 8 > b.size()) fail("GLB: truncated chunk header after the JSON chunk");
     if (bin_start + 8 + read_u32(b, size_t(bin_start)) > b.size()) fail("GLB: BIN chunk runs past the end of the file");
+    if (read_u32(b, size_t(bin_start) + 4) != 0x004E4942u) {
+      char type[16];
+      std::snprintf(type, sizeof type, "0x%08X", read_u32(b, size_t(bin_start) + 4));
+      fail(std::string("GLB: the chunk after the JSON chunk has type ") + type + ", not BIN (0x004E4942)");
+    }
+    contents.has_bin_chunk = true;
+    contents.bin_chunk_bytes = read_u32(b, size_t(bin_start));
   }
   contents.json_text.assign(b.begin() + 20, b.begin() + long(20 + json_length));
   return contents;
+}
+
+// Bytes a base64 text decodes to (tinygltf's decoder ignores what follows the data).
+uint64_t base64_decoded_bytes(std::string_view text) {
+  while (!text.empty() && text.back() == '=') text.remove_suffix(1);
+  return uint64_t(text.size()) * 3 / 4;
+}
+
+// Buffers, checked before tinygltf reads them so that its messages (which quote whole data: URIs
+// or say "File not found : ") never reach the user: every buffer's bytes exist and hold byteLength.
+void check_buffers(const json& document, const FileContents& contents, const std::filesystem::path& file) {
+  if (!document.contains("buffers")) return;
+  const json& buffers = document["buffers"];
+  for (size_t i = 0; i < buffers.size(); ++i) {
+    const json& buffer = buffers[i];
+    const std::string where = "buffers[" + std::to_string(i) + "]";
+    if (!buffer.contains("byteLength")) fail(where + ": byteLength is missing");
+    const uint64_t length = buffer["byteLength"].get<uint64_t>();
+    if (!buffer.contains("uri")) {
+      if (!contents.binary || i != 0) fail(where + ": no uri (only a GLB's first buffer may omit it)");
+      if (!contents.has_bin_chunk) fail(where + ": no uri and the GLB has no BIN chunk");
+      if (contents.bin_chunk_bytes < length)
+        fail(where + ": byteLength " + std::to_string(length) + " but the GLB's BIN chunk holds " +
+             std::to_string(contents.bin_chunk_bytes) + " bytes");
+      continue;
+    }
+    const std::string uri = buffer["uri"].get<std::string>();
+    if (uri.rfind("data:", 0) == 0) {
+      const size_t comma = uri.find(',');
+      if (comma == std::string::npos || uri.substr(0, comma).find(";base64") == std::string::npos)
+        fail(where + ": a data: URI must be base64 ('data:...;base64,...')");
+      const uint64_t decoded = base64_decoded_bytes(std::string_view(uri).substr(comma + 1));
+      if (decoded < length)
+        fail(where + ": byteLength " + std::to_string(length) + " but its data: URI holds " + std::to_string(decoded) +
+             " bytes");
+      continue;
+    }
+    std::string name;  // the URI with %XX escapes decoded, as tinygltf reads it
+    for (size_t k = 0; k < uri.size(); ++k) {
+      unsigned code = 0;
+      if (uri[k] == '%' && k + 2 < uri.size() && std::sscanf(uri.c_str() + k + 1, "%2x", &code) == 1) {
+        name += char(code);
+        k += 2;
+      } else {
+        name += uri[k];
+      }
+    }
+    const std::filesystem::path path = std::filesystem::absolute(file).parent_path() / name;
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) fail(where + ": buffer file '" + uri + "' not found beside the scene");
+    const uint64_t size = std::filesystem::file_size(path, ec);
+    if (ec || size < length)
+      fail(where + ": byteLength " + std::to_string(length) + " but '" + uri + "' holds " + std::to_string(size) + " bytes");
+  }
 }
 
 // tinygltf's file access, restricted to absolute paths (its default also searches the working
@@ -624,6 +690,11 @@ BuiltMesh build_mesh(const tinygltf::Model& model, const json& document, size_t 
              std::to_string(refined_triangles) + " triangles (limit " + std::to_string(kMaxRefinedTriangles) +
              " for the scene)");
       refined_budget -= refined_triangles;
+      const uint64_t scene_refined = kMaxRefinedTriangles - refined_budget;
+      check_memory_estimate(primitive_where,
+                            "subdivision level " + std::to_string(request.level) + " (up to " +
+                                std::to_string(scene_refined) + " refined triangles in the scene)",
+                            double(scene_refined) * kBytesPerRefinedTriangle, options.memory_limit);
       SubdividedMesh refined;
       try {
         refined = subdivide(cage, request.scheme, request.level);
@@ -715,6 +786,10 @@ Camera convert_camera(const tinygltf::Camera& source, size_t camera_index, const
   camera.up = frame.up;
   camera.yfov_degrees = float(p.yfov * 180.0 / kPi);
   camera.znear = float(p.znear);
+  // The checks above are in double: a yfov or znear of 1e-300 passes them and is 0 as a float.
+  const std::string problem = camera_problem(camera);
+  if (!problem.empty()) fail(where + ": " + problem + " (as 32-bit floats: yfov " + std::to_string(p.yfov) + ", znear " +
+                             std::to_string(p.znear) + ")");
   return camera;
 }
 
@@ -819,10 +894,9 @@ std::vector<Camera> read_camera_path(const json& holder, const std::string& pref
       if (!(camera.yfov_degrees > 0.0f && camera.yfov_degrees < 180.0f))
         fail(where + ".yfov: must be in (0, 180) degrees");
     }
-    const glm::vec3 forward = camera.target - camera.eye;
-    if (!(glm::length(forward) > 0.0f)) fail(where + ": eye and target coincide");
-    if (!(glm::length(glm::cross(forward, camera.up)) > 0.0f)) fail(where + ": up is parallel to the view direction");
     camera.znear = znear;
+    const std::string problem = camera_problem(camera);
+    if (!problem.empty()) fail(where + ": " + problem);
     path.push_back(camera);
   }
   return path;
@@ -870,10 +944,13 @@ Scene load(const std::filesystem::path& file, const LoadOptions& options) {
 
   if (document.contains("extensions") && document["extensions"].contains("KHR_lights_punctual")) {
     const json& lights = document["extensions"]["KHR_lights_punctual"].value("lights", json::array());
-    for (size_t i = 0; i < lights.size(); ++i)
+    for (size_t i = 0; i < lights.size(); ++i) {
+      if (!lights[i].contains("type")) fail("light " + std::to_string(i) + ": 'type' is missing");
       if (lights[i].value("type", "") == "spot" && !lights[i].contains("spot"))
         fail("light " + std::to_string(i) + ": a spot light needs a 'spot' object");
+    }
   }
+  check_buffers(document, contents, file);
 
   const tinygltf::Model model = parse_with_tinygltf(contents, file);
   check_model(model);

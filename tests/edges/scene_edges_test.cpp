@@ -9,6 +9,7 @@
 #include <string>
 #include <tuple>
 #include <random>
+#include <cmath>
 
 #include "edges/scene_edges.h"
 #include "load_scene.h"
@@ -140,6 +141,121 @@ TEST(Triples, BlockerIsItsOwnReceiverAndFarObjectsAreLeftOut) {
   EXPECT_TRUE(has(0, 1));
   EXPECT_FALSE(has(0, 2));
   EXPECT_FALSE(has(1, 2));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Issue 14: edges grew quadratically with instances. The triples come from a sphere hierarchy and
+// events skip receivers whose sphere misses their plane; both must find exactly what testing every
+// pair finds, and the work must grow near-linearly on a spread-out scene.
+
+TEST(Triples, TheHierarchyFindsWhatTestingEveryPairFinds) {
+  std::mt19937 rng(14);
+  std::uniform_real_distribution<float> u(-10.0f, 10.0f), size(0.1f, 2.0f);
+  for (int trial = 0; trial < 20; ++trial) {
+    SCOPED_TRACE(trial);
+    Scene scene;
+    scene.meshes = {test::uv_sphere(4, 8, 1.0f)};
+    const int n = 5 + trial * 7;
+    for (int i = 0; i < n; ++i) {
+      glm::mat4 m = test::translation({u(rng), u(rng), u(rng)});
+      m[0][0] = m[1][1] = m[2][2] = size(rng);
+      scene.objects.push_back({"o" + std::to_string(i), 0, m});
+    }
+    PunctualLight point;
+    point.position = {u(rng), 12.0f, u(rng)};
+    PunctualLight sun;
+    sun.type = LightType::directional;
+    sun.direction = glm::normalize(glm::vec3(u(rng), -10.0f, u(rng)));
+    scene.punctual_lights = {point, sun};
+    const SceneEdgeFinder finder(scene);
+    const std::vector<LightBlockerReceiver> triples = finder.find_triples(scene);
+
+    // The oracle: every (blocker, receiver) pair tested with the bounding spheres of the transformed
+    // vertices (a sphere around them, not the finder's: only pairs well inside or outside count).
+    std::vector<glm::dvec3> centre(scene.objects.size());
+    std::vector<double> radius(scene.objects.size());
+    for (size_t o = 0; o < scene.objects.size(); ++o) {
+      centre[o] = glm::dvec3(scene.objects[o].object_to_world[3]);
+      radius[o] = double(scene.objects[o].object_to_world[0][0]);
+    }
+    auto meets = [&](uint32_t l, uint32_t b, uint32_t r, double scale) {
+      const double rb = radius[b] * scale, rr = radius[r] * scale;
+      if (l == 1) {
+        const glm::dvec3 d(scene.punctual_lights[1].direction), offset = centre[r] - centre[b];
+        return glm::length(offset - glm::dot(offset, d) * d) <= rb + rr;
+      }
+      const glm::dvec3 apex(scene.punctual_lights[0].position), tb = centre[b] - apex, tr = centre[r] - apex;
+      if (glm::length(tb) <= rb || glm::length(tr) <= rr) return true;
+      const double alpha = std::asin(std::min(1.0, rb / glm::length(tb))), beta = std::asin(std::min(1.0, rr / glm::length(tr)));
+      return std::acos(std::clamp(glm::dot(tb, tr) / (glm::length(tb) * glm::length(tr)), -1.0, 1.0)) <= alpha + beta;
+    };
+    for (uint32_t l = 0; l < 2; ++l)
+      for (uint32_t b = 0; b < scene.objects.size(); ++b)
+        for (uint32_t r = 0; r < scene.objects.size(); ++r) {
+          const bool found = std::find(triples.begin(), triples.end(), LightBlockerReceiver{l, b, r}) != triples.end();
+          // The finder's spheres bound the mesh's box: between 1 and sqrt(3) times the true radius.
+          if (r == b || meets(l, b, r, 1.0)) EXPECT_TRUE(found) << l << " " << b << " " << r;
+          else if (!meets(l, b, r, 1.75)) EXPECT_FALSE(found) << l << " " << b << " " << r;
+        }
+    EXPECT_TRUE(std::is_sorted(triples.begin(), triples.end()));
+  }
+}
+
+TEST(Triples, WorkGrowsNearLinearlyWithSpreadOutObjects) {
+  // 4x the objects: testing every pair is 16x the sphere tests; the hierarchy stays under 6x.
+  const Scene small = test::boxes_on_a_floor(100), large = test::boxes_on_a_floor(400);
+  SceneEdgeFinder small_finder(small), large_finder(large);
+  const auto small_triples = small_finder.find_triples(small), large_triples = large_finder.find_triples(large);
+  EXPECT_LT(double(small_finder.triple_tests()), 0.5 * 2.0 * 101.0 * 101.0);
+  EXPECT_LT(double(large_finder.triple_tests()), 6.0 * double(small_finder.triple_tests()));
+  EXPECT_LT(large_triples.size(), 6 * small_triples.size());
+
+  // Every event meets only the receivers its plane crosses: searches per triple stay flat.
+  std::vector<SceneEdge> small_edges, large_edges;
+  small_finder.shadow_edges(small, small_triples, small_edges);
+  large_finder.shadow_edges(large, large_triples, large_edges);
+  ASSERT_GT(small_finder.receiver_searches(), 0u);
+  EXPECT_LT(double(large_finder.receiver_searches()), 6.0 * double(small_finder.receiver_searches()));
+  EXPECT_GT(large_edges.size(), 3 * small_edges.size());  // the shadows themselves are all there
+}
+
+TEST(Triples, SkippingReceiversWhosePlaneMissesChangesNoEdge) {
+  // The same scene with the culling defeated (infinite receiver spheres) gives the same edges.
+  const Scene scene = test::boxes_on_a_floor(16);
+  SceneEdgeFinder finder(scene);
+  const auto triples = finder.find_triples(scene);
+  std::vector<SceneEdge> culled;
+  finder.shadow_edges(scene, triples, culled);
+  ASSERT_FALSE(culled.empty());
+
+  // Reference: shadow_edges_of_event over every receiver of each pair, with no bounding spheres.
+  std::vector<SceneEdge> reference;
+  const std::vector<EdgeLight>& lights = finder.lights();
+  for (size_t i = 0; i < triples.size();) {
+    const uint32_t l = triples[i].light, b = triples[i].blocker;
+    std::vector<ReceiverView> receivers;
+    for (; i < triples.size() && triples[i].light == l && triples[i].blocker == b; ++i) {
+      const Object& o = scene.objects[triples[i].receiver];
+      const glm::dmat4 m(o.object_to_world);
+      receivers.push_back({&finder.edge_mesh(o.mesh), nullptr, m, glm::inverse(m), triples[i].receiver});
+    }
+    std::vector<ReceiverTree> trees;
+    trees.reserve(receivers.size());
+    for (ReceiverView& r : receivers) trees.emplace_back(*r.mesh), r.tree = &trees.back();
+    const Object& blocker = scene.objects[b];
+    std::vector<ShadowEvent> events;
+    find_shadow_events({&finder.edge_mesh(blocker.mesh), nullptr, glm::dmat4(blocker.object_to_world), b}, lights[l], l,
+                       events);
+    std::vector<ShadowEdge> edges;
+    for (uint32_t e = 0; e < events.size(); ++e) shadow_edges_of_event(events[e], e, receivers, edges);
+    for (const ShadowEdge& s : edges) reference.push_back({EdgeKind::shadow, s.receiver, s.a, s.b, s.blocker, s.light});
+  }
+  ASSERT_EQ(culled.size(), reference.size());
+  for (size_t k = 0; k < culled.size(); ++k) {
+    EXPECT_EQ(culled[k].a, reference[k].a) << k;
+    EXPECT_EQ(culled[k].b, reference[k].b) << k;
+    EXPECT_EQ(culled[k].object, reference[k].object) << k;
+  }
 }
 
 }  // namespace

@@ -154,4 +154,31 @@ inline Mesh transformed(Mesh m, float scale, glm::vec3 offset, const std::string
   return m;
 }
 
+inline glm::mat4 translation(glm::vec3 p) {
+  glm::mat4 m(1.0f);
+  m[3] = glm::vec4(p, 1.0f);
+  return m;
+}
+
+// A scene of n unit boxes on a floor, spaced 3 apart on a square grid, under a point light high
+// above and a slanted sun: shadows fall near their casters (issue 14's scaling tests and bench).
+inline Scene boxes_on_a_floor(int n) {
+  Scene scene;
+  scene.meshes = {box({-0.5f, 0.0f, -0.5f}, {0.5f, 1.0f, 0.5f})};
+  const int side = int(std::ceil(std::sqrt(double(n))));
+  scene.meshes.push_back(box({-1.5f * side - 2, -0.2f, -1.5f * side - 2}, {1.5f * side + 2, 0.0f, 1.5f * side + 2}));
+  scene.objects.push_back({"floor", 1, glm::mat4(1.0f)});
+  for (int i = 0; i < n; ++i)
+    scene.objects.push_back({"box" + std::to_string(i), 0,
+                             translation({3.0f * float(i % side) - 1.5f * side, 0.0f, 3.0f * float(i / side) - 1.5f * side})});
+  PunctualLight lamp;
+  lamp.position = {0.5f, 60.0f, 0.25f};
+  scene.punctual_lights.push_back(lamp);
+  PunctualLight sun;
+  sun.type = LightType::directional;
+  sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+  scene.punctual_lights.push_back(sun);
+  return scene;
+}
+
 }  // namespace epi::edges::test
