@@ -20,6 +20,7 @@
 #include "render/camera_path.h"
 #include "render/renderer.h"
 #include "shade/render_image.h"
+#include "snapshot.h"
 
 namespace epi::cli {
 
@@ -92,6 +93,11 @@ int run_render_frames(const RenderOptions& options) {
       outputs_named.push_back(frame_file(options.frames_out, f));
       check_output_image(outputs_named.back());
     }
+  if (!options.save_epi.empty()) {
+    if (options.mode != "epi") throw std::invalid_argument("--save-epi needs --mode epi");
+    check_output_file(options.save_epi);
+    outputs_named.push_back(options.save_epi);
+  }
   check_distinct_outputs(outputs_named);
   check_not_input(outputs_named, options.reference);
   const ShaderSettings shader_settings_ = shader_settings(options);
@@ -197,6 +203,11 @@ int run_render_frames(const RenderOptions& options) {
 
   stage = Clock::now();
   outputs.add_image(options.output, *image, options.exposure);
+  if (!options.save_epi.empty()) {
+    ReconstructSettings reconstruct;
+    reconstruct.antialias = settings.antialias, reconstruct.complex_filter = settings.complex_filter;
+    outputs.add_text(options.save_epi, snapshot_bytes({renderer->epi(), renderer->masks(), renderer->segments(), reconstruct}));
+  }
   const double write_ms = ms_since(stage) + write_frames_ms;
   const double total_ms = ms_since(start);
 

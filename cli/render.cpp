@@ -31,6 +31,7 @@ int run_render(const RenderOptions& options) {
 #ifdef EPI_WITH_FRAMES
   if (options.mode == "epi" || options.mode == "rendercache") return run_render_frames(options);
 #endif
+  if (!options.save_epi.empty()) throw std::invalid_argument("--save-epi needs --mode epi");
   const auto start = Clock::now();
   // Fail on a bad output path before any long work.
   check_output_image(options.output);

@@ -54,6 +54,7 @@ struct RenderOptions {
   double sample_budget = 0.02; // fraction of the pixels requested per frame
   std::string camera_path;     // file of camera keys per frame; empty: the scene's path, else still
   std::string frames_out;      // printf-style pattern for every frame's image, e.g. out/f%04d.png
+  std::string save_epi;        // mode epi: the last frame's EPI snapshot (io/snapshot), empty: none
   bool soft_shadow_edges = false;  // epi mode: the paper's umbral and penumbral edges (render.md, "Soft-shadow edges")
   std::string reference;       // image to compare the written frame with (all modes); empty: none
   bool speedup = true;         // epi, rendercache: time a 1-spp ray trace of the last view

@@ -12,7 +12,7 @@ packages=(
   cmake ninja-build g++ pkg-config ccache xauth
   libembree-dev libtbb-dev libglfw3-dev libglm-dev libopenimageio-dev libosd-dev
   libtinygltf-dev nlohmann-json3-dev libhwy-dev libgtest-dev libbenchmark-dev libimgui-dev
-  libcli11-dev xvfb libgl-dev libgl1-mesa-dri mesa-utils
+  libcli11-dev xvfb libgl-dev libgl1-mesa-dri mesa-utils libcairo2-dev libgif-dev libpng-dev xdotool
   clang libclang-rt-14-dev  # the sanitizer and fuzz builds of tools/test.sh
 )
 missing=()

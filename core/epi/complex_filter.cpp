@@ -77,10 +77,11 @@ int find(int* parent, int i) {
 // Region of a sub-pixel at probe k of its side (0 right, 1 bottom, 2 left, 3 top; empty: region 0).
 int region_at(const SubPixel& s, int side, int k) { return s.kind == CellKind::simple ? s.geometry->probe[side][k] : 0; }
 
-}  // namespace
-
-void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
-                   float out[3]) {
+// The filter; with kTrace it records into *trace (complex_pixel_traced), without it compiles
+// to the plain filter.
+template <bool kTrace>
+void complex_impl(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3], float out[3],
+                  ComplexTrace* trace) {
   // Classify the 6x6 sub-pixels.
   const std::array<SubPixelGeometry, 256>& geometry = sub_pixel_geometry();
   const std::array<uint16_t, 65536>& classes = sub_cell_classes();
@@ -96,6 +97,7 @@ void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
       const uint16_t c = classes[top | right << 4 | bottom << 8 | left << 12];  // geom::classify_cell(sides, 4)
       sub[v][u].kind = CellKind(c & 3);
       if (sub[v][u].kind == CellKind::simple) sub[v][u].geometry = &geometry[size_t(((c >> 2) & 15) * 16 + (c >> 6))];
+      if constexpr (kTrace) trace->sub[v][u].kind = CellKind(c & 3), trace->sub[v][u].p_low = (c >> 2) & 15, trace->sub[v][u].p_high = c >> 6;
     }
 
   // Connect regions across shared sides: nodes (v * 6 + u) * 2 + region.
@@ -145,20 +147,29 @@ void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
       const int r = sample_region(e), rx = r & 3, ry = r >> 2;
       const int u = 2 * (qx - x + 1) + (rx >> 1), v = 2 * (qy - y + 1) + (ry >> 1);
       const SubPixel& s = sub[v][u];
-      int region = 0;
-      if (s.kind == CellKind::complex) continue;
-      if (s.kind == CellKind::simple) {
-        region = s.geometry->quarter[(rx & 1) + 2 * (ry & 1)];
-        if (region == 2) continue;
+      int region = s.kind == CellKind::complex ? 3 : 0;
+      if (s.kind == CellKind::simple) region = s.geometry->quarter[(rx & 1) + 2 * (ry & 1)];
+      if constexpr (kTrace) {
+        ComplexTrace::Sample traced{qx, qy, u, v, region, region < 2 ? find(parent, node(u, v, region)) : -1, {}};
+        decode_color(epi.color_at(qx, qy), traced.rgb);
+        trace->samples.push_back(traced);
       }
+      if (region >= 2) continue;
       Placed& p = samples[count++];
       p.root = find(parent, node(u, v, region));
       p.u = u, p.v = v;
       decode_color(epi.color_at(qx, qy), p.rgb);
     }
 
-  // Colour of one region of a centre sub-pixel.
-  auto region_color = [&](int u, int v, int region, float rgb[3]) {
+  if constexpr (kTrace)
+    for (int v = 0; v < kGrid; ++v)
+      for (int u = 0; u < kGrid; ++u)
+        if (sub[v][u].kind != CellKind::complex)
+          for (int region = 0; region < (sub[v][u].kind == CellKind::simple ? 2 : 1); ++region)
+            trace->sub[v][u].group[region] = find(parent, node(u, v, region));
+
+  // Colour of one region of a centre sub-pixel; false when no sample reaches it (the estimate).
+  auto region_color = [&](int u, int v, int region, float rgb[3]) -> bool {
     const int root = find(parent, node(u, v, region));
     float sum[3] = {0, 0, 0}, total = 0;
     for (int k = 0; k < count; ++k) {
@@ -169,6 +180,7 @@ void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
       total += w;
     }
     for (int c = 0; c < 3; ++c) rgb[c] = total > 0 ? sum[c] / total : estimate[c];
+    return total > 0;
   };
 
   out[0] = out[1] = out[2] = 0;
@@ -176,17 +188,37 @@ void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
     for (int u = 2; u <= 3; ++u) {
       const SubPixel& s = sub[v][u];
       float rgb[3] = {estimate[0], estimate[1], estimate[2]};
+      [[maybe_unused]] ComplexTrace::Centre traced;
       if (s.kind == CellKind::empty) {
-        region_color(u, v, 0, rgb);
+        const bool found = region_color(u, v, 0, rgb);
+        if constexpr (kTrace) traced.region_found[0] = found, std::copy(rgb, rgb + 3, traced.region_rgb[0]);
       } else if (s.kind == CellKind::simple) {
         float a_rgb[3], b_rgb[3];
-        region_color(u, v, 0, a_rgb);
-        region_color(u, v, 1, b_rgb);
+        const bool found_a = region_color(u, v, 0, a_rgb);
+        const bool found_b = region_color(u, v, 1, b_rgb);
         const float a = s.geometry->area;
         for (int c = 0; c < 3; ++c) rgb[c] = a * a_rgb[c] + (1.0f - a) * b_rgb[c];
+        if constexpr (kTrace) {
+          traced.area_a = a, traced.region_found[0] = found_a, traced.region_found[1] = found_b;
+          std::copy(a_rgb, a_rgb + 3, traced.region_rgb[0]), std::copy(b_rgb, b_rgb + 3, traced.region_rgb[1]);
+        }
       }
+      if constexpr (kTrace) std::copy(rgb, rgb + 3, traced.rgb), trace->centre[(v - 2) * 2 + (u - 2)] = traced;
       for (int c = 0; c < 3; ++c) out[c] += 0.25f * rgb[c];
     }
+}
+
+}  // namespace
+
+void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
+                   float out[3]) {
+  complex_impl<false>(epi, masks, x, y, estimate, out, nullptr);
+}
+
+void complex_pixel_traced(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
+                          float out[3], ComplexTrace& trace) {
+  trace = {};
+  complex_impl<true>(epi, masks, x, y, estimate, out, &trace);
 }
 
 }  // namespace epi

@@ -8,6 +8,9 @@
 // their two regions by area; complex sub-pixels and regions with no sample use the estimate.
 #pragma once
 
+#include <vector>
+
+#include "epi/geometry.h"
 #include "epi/rows.h"
 #include "epi/rasterize.h"
 
@@ -16,5 +19,33 @@ namespace epi {
 // Reads rows y-1..y+1 of `epi` (samples) and of the masks.
 void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
                    float out[3]);
+
+// What complex_pixel did, for the visualizer's trace (trace.h). Sub-pixel (u, v), u, v in 0..5,
+// covers pixel (x - 1 + u / 2, y - 1 + v / 2); the pixel's own are u, v in 2..3.
+struct ComplexTrace {
+  struct Sub {
+    CellKind kind = CellKind::complex;  // complex also stands for "outside the image"
+    int p_low = 0, p_high = 0;          // simple: the edge on the 4-piece sides
+    int group[2] = {-1, -1};            // connected-region id of regions A (or the whole) and B
+  };
+  struct Sample {
+    int qx, qy, u, v;
+    int region;   // 0 A (or the whole sub-pixel), 1 B, 2 edge-ambiguous (dropped), 3 in a complex sub-pixel (dropped)
+    int group;    // connected-region id, -1 when dropped
+    float rgb[3];
+  };
+  struct Centre {  // one of the pixel's four sub-pixels, u = 2 + (k & 1), v = 2 + (k >> 1)
+    float area_a = 1;
+    float region_rgb[2][3] = {};
+    bool region_found[2] = {};  // false: no sample joined, the estimate stands in
+    float rgb[3] = {};
+  };
+  Sub sub[6][6];  // [v][u]
+  std::vector<Sample> samples;
+  Centre centre[4];
+};
+// complex_pixel, recording into `trace`.
+void complex_pixel_traced(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
+                          float out[3], ComplexTrace& trace);
 
 }  // namespace epi

@@ -1,6 +1,8 @@
 #include "epi/reachability.h"
 
 #include <array>
+#include <cstddef>
+#include <type_traits>
 
 #include "epi/geometry.h"
 #include "epi/tables.h"
@@ -52,9 +54,10 @@ const std::array<Step, 48>& steps7() {
   return s;
 }
 
-// type_at(px, py) is called for pixels inside the image only.
-template <typename TypeAt>
-uint32_t reach(TypeAt type_at, int width, int height, int x, int y) {
+// type_at(px, py) is called for pixels inside the image only. `record`, when not nullptr, is
+// called with every propagation step (the visualizer's trace; the fast path compiles without it).
+template <typename TypeAt, typename Record = std::nullptr_t>
+uint32_t reach(TypeAt type_at, int width, int height, int x, int y, Record record = nullptr) {
   const EpiTables& t = epi_tables();
   uint8_t types[25];
   int any = 0;
@@ -72,12 +75,19 @@ uint32_t reach(TypeAt type_at, int width, int height, int x, int y) {
   uint32_t result = 0;
   for (const Step& s : steps()) {
     uint8_t m = 0;
+    [[maybe_unused]] ReachStep traced{s.dx, s.dy, 0, {}, {}, {}, types[s.index], {}, {}, {}, 0};
     for (int k = 0; k < 2 && s.pred[k] >= 0; ++k) {
       const int p = s.pred[k];
       const uint8_t step = t.neighbour[s.dir[k]][(types[p] << 4) | types[s.index]];
-      m |= p == 12 ? step : t.chain[(masks[p] << 4) | step];
+      const uint8_t path = p == 12 ? step : t.chain[(masks[p] << 4) | step];
+      m |= path;
+      if constexpr (!std::is_same_v<Record, std::nullptr_t>) {
+        traced.preds = k + 1, traced.pred_dx[k] = p % 5 - 2, traced.pred_dy[k] = p / 5 - 2;
+        traced.dir[k] = s.dir[k], traced.pred_type[k] = types[p], traced.neighbour[k] = step, traced.path[k] = path;
+      }
     }
     masks[s.index] = m;
+    if constexpr (!std::is_same_v<Record, std::nullptr_t>) traced.mask = m, record(traced);
     if (m & kReachPP) result |= 1u << reach_bit(s.dx, s.dy);
   }
   return result;
@@ -92,6 +102,12 @@ uint32_t reach_full(const EpiImage& epi, int x, int y) {
 uint32_t reach_full(TypeRows p, int x, int y) {
   return reach([p](int px, int py) { return p.at(px, py); }, p.width, p.height, x, y);
 }
+uint32_t reach_full_traced(TypeRows p, int x, int y, std::vector<ReachStep>& steps) {
+  steps.clear();
+  return reach([p](int px, int py) { return p.at(px, py); }, p.width, p.height, x, y,
+               [&steps](const ReachStep& s) { steps.push_back(s); });
+}
+
 uint64_t reach_window7(TypeRows p, int x, int y) {
   const EpiTables& t = epi_tables();
   uint8_t types[49];

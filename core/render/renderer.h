@@ -104,6 +104,7 @@ class FrameRenderer {
   const EpiImage& epi() const { return epi_; }  // this frame's EPI, classified (types, reachability)
   const FrameSettings& settings() const { return settings_; }
   const std::vector<Segment>& segments() const { return segments_; }  // this frame's visible edge pieces
+  const BoundaryMasks& masks() const { return masks_; }       // and its boundary masks (EPI snapshots)
   const std::vector<edges::EdgeKind>& segment_kinds() const { return segment_kinds_; }  // one per piece
   const std::vector<float>& filtered_depth() const { return filtered_depth_; }
   const std::vector<edges::SceneEdge>& scene_edges() const { return edges_; }  // this frame's, world space
