@@ -81,7 +81,8 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
     async_ = std::make_unique<AsyncShader>(shader, settings.shader_threads, 1024, settings.before_shading_slice);
 }
 
-FrameRenderer::~FrameRenderer() = default;  // the AsyncShader drops pending work and joins
+// The shader thread stops first: nothing it may still touch is torn down under it.
+FrameRenderer::~FrameRenderer() { async_.reset(); }
 
 size_t FrameRenderer::budget() const {
   const double pixels = double(settings_.width) * double(settings_.height);
