@@ -11,29 +11,14 @@
 #include <unistd.h>
 
 #include <gtest/gtest.h>
+
+#include "run_epi.h"  // tests/cli
 #include <nlohmann/json.hpp>
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct EpiRun {
-  int exit_code = -1;
-  std::string out;  // stdout and stderr together
-};
-
-EpiRun run_epi(const std::string& args) {
-  const std::string command = std::string(EPI_BINARY_DIR) + "/bin/epi " + args + " 2>&1";
-  EpiRun run;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (!pipe) return run;
-  std::array<char, 4096> buffer;
-  size_t n;
-  while ((n = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.out.append(buffer.data(), n);
-  const int status = ::pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
 
 fs::path temp_dir() {
   fs::path dir = fs::temp_directory_path() / ("epi-frames-test-" + std::to_string(::getpid()));
