@@ -33,6 +33,25 @@ inline float InterpolationWeight(int dx, int dy) {
   return kWeights[(dy + 2) * 5 + dx + 2];
 }
 
+// The outputs of a weighted mean (interpolate.h): the colour where something was found (the
+// rest is left to the caller's fallback), the total weight, and the priority: the age of an
+// own sample (`own`: 1 or 0) / 16, else 1 / total capped at 15.
+template <class DF>
+HWY_INLINE void StoreMean(DF df, const float* own, const uint32_t* color, hn::Vec<DF> sr, hn::Vec<DF> sg,
+                          hn::Vec<DF> sb, hn::Vec<DF> total, float* rgb, float* total_out, float* priority_out) {
+  const hn::RebindToUnsigned<DF> du;
+  const auto found = hn::Gt(total, hn::Zero(df));
+  const auto safe = hn::IfThenElse(found, total, hn::Set(df, 1.0f));  // division only where found
+  hn::StoreInterleaved3(hn::Div(sr, safe), hn::Div(sg, safe), hn::Div(sb, safe), df, rgb);
+  hn::StoreU(total, df, total_out);
+  const auto own_sample = hn::Gt(hn::LoadU(df, own), hn::Zero(df));
+  const auto age = hn::Mul(hn::ConvertTo(df, hn::BitCast(hn::RebindToSigned<DF>(), hn::ShiftRight<24>(hn::LoadU(du, color)))),
+                           hn::Set(df, 1.0f / 16.0f));
+  const auto by_weight = hn::IfThenElse(hn::Gt(hn::Mul(total, hn::Set(df, 15.0f)), hn::Set(df, 1.0f)),
+                                        hn::Div(hn::Set(df, 1.0f), safe), hn::Set(df, 15.0f));
+  hn::StoreU(hn::IfThenElse(own_sample, age, by_weight), df, priority_out);
+}
+
 // Lanes x .. x + N - 1 of the row; `types`, `reach`, `color` and the outputs start at x.
 template <class DF>
 HWY_INLINE void InterpolateLanes(DF df, const InterpolateRow& row, int x, const uint8_t* types,
@@ -69,30 +88,42 @@ HWY_INLINE void InterpolateLanes(DF df, const InterpolateRow& row, int x, const 
       total = hn::Add(total, w);
     }
   }
-  const auto found = hn::Gt(total, hn::Zero(df));
-  // Division only where something was found (the rest is left to the caller's fallback).
-  const auto safe = hn::IfThenElse(found, total, hn::Set(df, 1.0f));
-  hn::StoreInterleaved3(hn::Div(sr, safe), hn::Div(sg, safe), hn::Div(sb, safe), df, rgb);
-  hn::StoreU(total, df, total_out);
-  // Priority: the age of a usable own sample / 16, else 1 / total capped at 15 (interpolate.h).
-  const auto own_usable = hn::Gt(hn::LoadU(df, row.usable[2] + kPad + x), hn::Zero(df));
-  const auto age = hn::Mul(hn::ConvertTo(df, hn::BitCast(hn::RebindToSigned<DF>(), hn::ShiftRight<24>(hn::LoadU(du, color)))),
-                           hn::Set(df, 1.0f / 16.0f));
-  const auto by_weight = hn::IfThenElse(hn::Gt(hn::Mul(total, hn::Set(df, 15.0f)), hn::Set(df, 1.0f)),
-                                        hn::Div(hn::Set(df, 1.0f), safe), hn::Set(df, 15.0f));
-  hn::StoreU(hn::IfThenElse(own_usable, age, by_weight), df, priority_out);
+  // Priority from a usable own sample (an edge-ambiguous one counts as none).
+  StoreMean(df, row.usable[2] + kPad + x, color, sr, sg, sb, total, rgb, total_out, priority_out);
 }
 
-inline void InterpolateRowKernel(const InterpolateRow& row) {
+// The render cache's filter (rendercache.cpp) lane by lane: the 3x3 of every sample, weights
+// 1, 1/2, 1/4, in the oracle's order (dy, then dx); priority from any own sample.
+template <class DF>
+HWY_INLINE void RenderCacheLanes(DF df, const InterpolateRow& row, int x, const uint8_t*, const uint32_t*,
+                                 const uint32_t* color, float* rgb, float* total_out, float* priority_out) {
+  static constexpr float kWeights[9] = {0.25f, 0.5f, 0.25f, 0.5f, 1.0f, 0.5f, 0.25f, 0.5f, 0.25f};
+  auto sr = hn::Zero(df), sg = hn::Zero(df), sb = hn::Zero(df), total = hn::Zero(df);
+  for (int dy = -1; dy <= 1; ++dy) {
+    const int k = dy + 2;
+    for (int dx = -1; dx <= 1; ++dx) {
+      const size_t i = size_t(kPad + x + dx);
+      const auto w = hn::Mul(hn::Set(df, kWeights[(dy + 1) * 3 + dx + 1]), hn::LoadU(df, row.sampled[k] + i));
+      sr = hn::Add(sr, hn::Mul(w, hn::LoadU(df, row.red[k] + i)));
+      sg = hn::Add(sg, hn::Mul(w, hn::LoadU(df, row.green[k] + i)));
+      sb = hn::Add(sb, hn::Mul(w, hn::LoadU(df, row.blue[k] + i)));
+      total = hn::Add(total, w);
+    }
+  }
+  StoreMean(df, row.sampled[2] + kPad + x, color, sr, sg, sb, total, rgb, total_out, priority_out);
+}
+
+// A row of `lanes` (InterpolateLanes, RenderCacheLanes): full vectors, then the last, partial
+// one with the own row's inputs and outputs through buffers of full vectors (the padded planes
+// hold zeros beyond the row).
+template <class Lanes>
+HWY_INLINE void MeanRow(const InterpolateRow& row, Lanes lanes) {
   const hn::ScalableTag<float> df;
   const int n = int(hn::Lanes(df));
   int x = 0;
   for (; x + n <= row.width; x += n)
-    InterpolateLanes(df, row, x, row.types + x, row.reach + x, row.color + x, row.rgb + 3 * x, row.total + x,
-                     row.priority + x);
+    lanes(df, row, x, row.types + x, row.reach + x, row.color + x, row.rgb + 3 * x, row.total + x, row.priority + x);
   if (x == row.width) return;
-  // The last, partial vector: own-row inputs and outputs through buffers of full vectors
-  // (the padded planes hold zeros beyond the row).
   constexpr int kMax = HWY_LANES(float);
   HWY_ALIGN uint8_t types[kMax] = {};
   HWY_ALIGN uint32_t reach[kMax] = {}, color[kMax] = {};
@@ -101,10 +132,17 @@ inline void InterpolateRowKernel(const InterpolateRow& row) {
   std::memcpy(types, row.types + x, size_t(rest));
   std::memcpy(reach, row.reach + x, size_t(rest) * 4);
   std::memcpy(color, row.color + x, size_t(rest) * 4);
-  InterpolateLanes(df, row, x, types, reach, color, rgb, total, priority);
+  lanes(df, row, x, types, reach, color, rgb, total, priority);
   std::memcpy(row.rgb + 3 * x, rgb, size_t(rest) * 12);
   std::memcpy(row.total + x, total, size_t(rest) * 4);
   std::memcpy(row.priority + x, priority, size_t(rest) * 4);
+}
+
+inline void InterpolateRowKernel(const InterpolateRow& row) {
+  MeanRow(row, [](auto... a) { InterpolateLanes(a...); });
+}
+inline void RenderCacheRowKernel(const InterpolateRow& row) {
+  MeanRow(row, [](auto... a) { RenderCacheLanes(a...); });
 }
 
 }  // namespace HWY_NAMESPACE

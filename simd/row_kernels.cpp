@@ -22,7 +22,7 @@ namespace HWY_NAMESPACE {
 
 const RowKernels* KernelTable() {
   static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel, &ReachRowKernel, &ClassifyRowKernel,
-                                &AntialiasRowKernel, &DecodeRowKernel, &FillRowKernel};
+                                &AntialiasRowKernel, &DecodeRowKernel, &FillRowKernel, &RenderCacheRowKernel};
   return &table;
 }
 

@@ -116,6 +116,10 @@ struct RowKernels {
   void (*antialias)(const AntialiasRow& row);
   void (*decode)(const DecodeRow& row);
   void (*fill)(const FillRow& row);
+  // The render cache's filter (rendercache.h) over the same rows as interpolation: the 3x3 of
+  // the sampled flags and colours (rows 1-3), the own sample words (age); `usable` and `reach`
+  // are not read. Outputs as interpolation's (total 0: the caller's fallback).
+  void (*rendercache)(const InterpolateRow& row);
 };
 
 // The table of one target; 0: the best this CPU runs. Throws std::invalid_argument for a

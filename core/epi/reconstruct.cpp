@@ -164,7 +164,7 @@ void classify_stage(RowJob& j, int y) {
 bool vector_kernels(const RowJob& j) { return j.kernels && j.settings.filter == Filter::epi; }
 
 void decode_stage(RowJob& j, int y) {
-  if (!vector_kernels(j)) return;
+  if (!j.kernels) return;  // both filters' vector kernels read the decoded rows
   const size_t plane = samples_plane(j.width);
   float* red = j.samples.row(y) + simd::kPad;
   j.kernels->decode({j.width, j.edge.row(y), j.types.row(y), &j.in.color[size_t(y) * size_t(j.width)],
@@ -200,7 +200,7 @@ void interpolate_stage(RowJob& j, int y) {
   float* colors = j.interp.row(y);
   uint8_t* found = j.found.row(y);
   float* priority = j.owned(y) ? &j.out.priority[size_t(y) * size_t(j.width)] : j.priority_scratch;
-  if (!vector_kernels(j)) {
+  if (!j.kernels) {
     for (int x = 0; x < j.width; ++x) priority[x] = interpolate(rows, j.settings, x, y, reach[x], colors + 3 * x, found + x);
     return;
   }
@@ -214,6 +214,17 @@ void interpolate_stage(RowJob& j, int y) {
   row.width = j.width, row.types = j.types.row(y), row.reach = reach;
   row.color = &j.in.color[size_t(y) * size_t(j.width)];
   row.rgb = colors, row.total = j.total_scratch, row.priority = priority;
+  if (j.settings.filter == Filter::rendercache) {
+    j.kernels->rendercache(row);
+    for (int x = 0; x < j.width; ++x) {  // no sample in the 3x3: the oracle's 7x7 prefilter
+      found[x] = 1;
+      if (j.total_scratch[x] == 0) {
+        window_average(rows, x, y, 3, colors + 3 * x);
+        priority[x] = kMaxPriority;
+      }
+    }
+    return;
+  }
   j.kernels->interpolate(row);
   for (int x = 0; x < j.width; ++x) {  // pixels that reached nothing: the oracle's fallback
     found[x] = j.total_scratch[x] > 0;
@@ -362,6 +373,7 @@ void Reconstructor::oracle(const EpiImage& epi, const BoundaryMasks& masks, cons
                            Reconstruction& r) {
   prepare_output(epi, masks, r);
   const int w = epi.width, h = epi.height;
+  if (w == 0 || h == 0) return;  // nothing to compute (and no rows to point into)
   scratch_->whole.resize(w, h, h, h, h);
   RowJob job = whole_image_job(epi, masks, s, nullptr, r, scratch_->whole, &r.counts, nullptr, nullptr);
   for (const StageInfo& stage : kStages)
@@ -371,7 +383,9 @@ void Reconstructor::oracle(const EpiImage& epi, const BoundaryMasks& masks, cons
 void Reconstructor::staged(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
                            Reconstruction& r, ReconstructTimes& times, const Schedule& schedule) {
   prepare_output(epi, masks, r);
+  times = {};
   const int w = epi.width, h = epi.height;
+  if (w == 0 || h == 0) return;
   scratch_->whole.resize(w, h, h, h, h);
   tbb::combinable<ClassCounts> counts;
   scratch_->arena_for(schedule.threads).execute([&] {
