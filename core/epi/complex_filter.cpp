@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <numeric>
 #include <utility>
 
 #include "epi/geometry.h"
@@ -21,6 +20,7 @@ constexpr double kProbe[2] = {1.0 / 16.0, 15.0 / 16.0};
 struct SubPixelGeometry {
   uint8_t probe[4][2];  // [side: right (1,t), bottom (t,1), left (0,t), top (t,0)][t index]
   uint8_t quarter[4];   // square_side of the quarter (qx, qy) at index qx + 2 qy
+  uint8_t probe_bits;   // probe[side][k] at bit 2 side + k
   float area;
 };
 const std::array<SubPixelGeometry, 256>& sub_pixel_geometry() {
@@ -38,6 +38,8 @@ const std::array<SubPixelGeometry, 256>& sub_pixel_geometry() {
           g.probe[2][k] = uint8_t(geom::region_of(e, {0, p}));
           g.probe[3][k] = uint8_t(geom::region_of(e, {p, 0}));
         }
+        for (int side = 0; side < 4; ++side)
+          for (int k = 0; k < 2; ++k) g.probe_bits = uint8_t(g.probe_bits | g.probe[side][k] << (2 * side + k));
         for (int q = 0; q < 4; ++q) g.quarter[q] = uint8_t(geom::square_side(e, (q & 1) * 0.5, (q >> 1) * 0.5, 0.5));
         g.area = float(geom::area_a(e));
       }
@@ -65,76 +67,107 @@ const std::array<uint16_t, 65536>& sub_cell_classes() {
 struct SubPixel {
   CellKind kind = CellKind::complex;  // complex also stands for "outside the image"
   const SubPixelGeometry* geometry = nullptr;
+  uint8_t probe_bits = 0;  // the geometry's (empty: 0, region 0 everywhere)
 };
 
-uint8_t half(uint8_t mask, int h) { return uint8_t((mask >> (4 * h)) & 15); }
+uint32_t half(uint32_t mask, int h) { return (mask >> (4 * h)) & 15; }
 
-int find(int* parent, int i) {
-  while (parent[i] != i) i = parent[i] = parent[parent[i]];
-  return i;
+// A connected set of regions as two 6x6 bitboards (bit v * 6 + u): regions 0 (A, or the whole
+// of an empty sub-pixel) and 1 (B) of each sub-pixel.
+struct Regions {
+  uint64_t board[2];
+  bool has(int cell, int region) const { return (board[region] >> cell) & 1; }
+  // The smallest node index (2 cell + region) in the set: an id of the connected region.
+  int id() const {
+    const int a = board[0] ? 2 * __builtin_ctzll(board[0]) : 1000, b = board[1] ? 2 * __builtin_ctzll(board[1]) + 1 : 1000;
+    return std::min(a, b);
+  }
+};
+
+// Where regions of neighbouring sub-pixels touch: bit i of joins[dir][2 ra + rb] joins region
+// ra of cell i with region rb of cell i + 1 (dir 0, its right neighbour) or i + 6 (dir 1, below).
+using Joins = std::array<std::array<uint64_t, 4>, 2>;
+
+// The connected set of region `region` of `cell`: grown through the joins until it stops.
+Regions connected(const Joins& joins, int cell, int region) {
+  uint64_t c0 = region == 0 ? 1ull << cell : 0, c1 = region == 1 ? 1ull << cell : 0;
+  for (;;) {
+    uint64_t n0 = c0, n1 = c1;
+    for (int dir = 0; dir < 2; ++dir) {
+      const int s = dir == 0 ? 1 : kGrid;
+      const std::array<uint64_t, 4>& m = joins[size_t(dir)];
+      n0 |= ((c0 & m[0]) << s) | ((c1 & m[2]) << s) | ((c0 >> s) & m[0]) | ((c1 >> s) & m[1]);
+      n1 |= ((c0 & m[1]) << s) | ((c1 & m[3]) << s) | ((c0 >> s) & m[2]) | ((c1 >> s) & m[3]);
+    }
+    if (n0 == c0 && n1 == c1) return {{c0, c1}};
+    c0 = n0, c1 = n1;
+  }
 }
-
-// Region of a sub-pixel at probe k of its side (0 right, 1 bottom, 2 left, 3 top; empty: region 0).
-int region_at(const SubPixel& s, int side, int k) { return s.kind == CellKind::simple ? s.geometry->probe[side][k] : 0; }
 
 // The filter; with kTrace it records into *trace (complex_pixel_traced), without it compiles
 // to the plain filter.
 template <bool kTrace>
 void complex_impl(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3], float out[3],
                   ComplexTrace* trace) {
-  // Classify the 6x6 sub-pixels.
+  // Classify the 6x6 sub-pixels: each pixel's six mask bytes read once for its four.
   const std::array<SubPixelGeometry, 256>& geometry = sub_pixel_geometry();
   const std::array<uint16_t, 65536>& classes = sub_cell_classes();
   SubPixel sub[kGrid][kGrid];
-  for (int v = 0; v < kGrid; ++v)
-    for (int u = 0; u < kGrid; ++u) {
-      const int px = x - 1 + u / 2, py = y - 1 + v / 2, sx = u & 1, sy = v & 1;
+  const size_t row_stride = size_t(masks.width) + 1;
+  for (int py = y - 1; py <= y + 1; ++py)
+    for (int px = x - 1; px <= x + 1; ++px) {
       if (!epi.inside(px, py)) continue;
-      const uint32_t top = half(sy == 0 ? masks.top[masks.index(px, py)] : masks.centre_h[masks.index(px, py)], sx);
-      const uint32_t right = half(sx == 0 ? masks.centre_v[masks.index(px, py)] : masks.left[masks.index(px + 1, py)], sy);
-      const uint32_t bottom = half(sy == 0 ? masks.centre_h[masks.index(px, py)] : masks.top[masks.index(px, py + 1)], sx);
-      const uint32_t left = half(sx == 0 ? masks.left[masks.index(px, py)] : masks.centre_v[masks.index(px, py)], sy);
-      const uint16_t c = classes[top | right << 4 | bottom << 8 | left << 12];  // geom::classify_cell(sides, 4)
-      sub[v][u].kind = CellKind(c & 3);
-      if (sub[v][u].kind == CellKind::simple) sub[v][u].geometry = &geometry[size_t(((c >> 2) & 15) * 16 + (c >> 6))];
-      if constexpr (kTrace) trace->sub[v][u].kind = CellKind(c & 3), trace->sub[v][u].p_low = (c >> 2) & 15, trace->sub[v][u].p_high = c >> 6;
+      const size_t i = masks.index(px, py);
+      const uint32_t top = masks.top[i], bottom = masks.top[i + row_stride], left = masks.left[i],
+                     right = masks.left[i + 1], centre_h = masks.centre_h[i], centre_v = masks.centre_v[i];
+      for (int sy = 0; sy < 2; ++sy)
+        for (int sx = 0; sx < 2; ++sx) {
+          const int u = 2 * (px - x + 1) + sx, v = 2 * (py - y + 1) + sy;
+          const uint32_t t = half(sy == 0 ? top : centre_h, sx), r = half(sx == 0 ? centre_v : right, sy);
+          const uint32_t b = half(sy == 0 ? centre_h : bottom, sx), l = half(sx == 0 ? left : centre_v, sy);
+          const uint16_t c = classes[t | r << 4 | b << 8 | l << 12];  // geom::classify_cell(sides, 4)
+          SubPixel& s = sub[v][u];
+          s.kind = CellKind(c & 3);
+          if (s.kind == CellKind::simple) {
+            s.geometry = &geometry[size_t(((c >> 2) & 15) * 16 + (c >> 6))];
+            s.probe_bits = s.geometry->probe_bits;
+          }
+          if constexpr (kTrace)
+            trace->sub[v][u].kind = CellKind(c & 3), trace->sub[v][u].p_low = (c >> 2) & 15, trace->sub[v][u].p_high = c >> 6;
+        }
     }
 
-  // Connect regions across shared sides: nodes (v * 6 + u) * 2 + region.
-  // Union by size keeps the trees shallow; only the partition matters (region_color compares roots).
-  int parent[kGrid * kGrid * 2], size[kGrid * kGrid * 2];
-  std::iota(parent, parent + kGrid * kGrid * 2, 0);
-  std::fill(size, size + kGrid * kGrid * 2, 1);
-  auto unite = [&](int a, int b) {
-    int ra = find(parent, a), rb = find(parent, b);
-    if (ra == rb) return;
-    if (size[ra] < size[rb]) std::swap(ra, rb);
-    parent[rb] = ra, size[ra] += size[rb];
-  };
-  auto node = [](int u, int v, int region) { return (v * kGrid + u) * 2 + region; };
+  // Regions touching across a shared side are connected. A shared side holds at most one
+  // crossing, at a piece centre in [1/8, 7/8]: probing both ends of the side meets every
+  // region that touches it. Complex sub-pixels (and outside) join nothing.
+  Joins joins{};
   for (int v = 0; v < kGrid; ++v)
     for (int u = 0; u < kGrid; ++u) {
       const SubPixel& a = sub[v][u];
       if (a.kind == CellKind::complex) continue;
+      const uint64_t bit = 1ull << (v * kGrid + u);
       for (int dir = 0; dir < 2; ++dir) {
         const int bu = u + (dir == 0), bv = v + (dir == 1);
         if (bu >= kGrid || bv >= kGrid || sub[bv][bu].kind == CellKind::complex) continue;
-        const SubPixel& b = sub[bv][bu];
-        if (a.kind == CellKind::empty && b.kind == CellKind::empty) {
-          unite(node(u, v, 0), node(bu, bv, 0));
-          continue;
-        }
-        // A shared side holds at most one crossing, at a piece centre in [1/8, 7/8]: probing
-        // both ends of the side meets every region that touches it.
-        for (int k = 0; k < 2; ++k) {  // a's right (bottom) side meets b's left (top) side
-          unite(node(u, v, region_at(a, dir == 0 ? 0 : 1, k)), node(bu, bv, region_at(b, dir == 0 ? 2 : 3, k)));
-        }
+        const int a_side = dir == 0 ? 0 : 1, b_side = dir == 0 ? 2 : 3;  // a's right (bottom) meets b's left (top)
+        const uint32_t pa = a.probe_bits, pb = sub[bv][bu].probe_bits;
+        for (int k = 0; k < 2; ++k)
+          joins[size_t(dir)][((pa >> (2 * a_side + k)) & 1) * 2 + ((pb >> (2 * b_side + k)) & 1)] |= bit;
       }
     }
+  // The connected sets asked for so far (each found once).
+  Regions found[kGrid * kGrid * 2];
+  int found_count = 0;
+  auto regions_of = [&](int cell, int region) -> const Regions& {
+    for (int k = 0; k < found_count; ++k)
+      if (found[k].has(cell, region)) return found[k];
+    found[found_count] = connected(joins, cell, region);
+    return found[found_count++];
+  };
 
   // Samples of the 3x3, placed in their sub-pixel region (edge-ambiguous ones left out).
   struct Placed {
-    int root, u, v;
+    int cell, region, u, v;
     float rgb[3];
   };
   Placed samples[9];
@@ -150,14 +183,13 @@ void complex_impl(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, 
       int region = s.kind == CellKind::complex ? 3 : 0;
       if (s.kind == CellKind::simple) region = s.geometry->quarter[(rx & 1) + 2 * (ry & 1)];
       if constexpr (kTrace) {
-        ComplexTrace::Sample traced{qx, qy, u, v, region, region < 2 ? find(parent, node(u, v, region)) : -1, {}};
+        ComplexTrace::Sample traced{qx, qy, u, v, region, region < 2 ? regions_of(v * kGrid + u, region).id() : -1, {}};
         decode_color(epi.color_at(qx, qy), traced.rgb);
         trace->samples.push_back(traced);
       }
       if (region >= 2) continue;
       Placed& p = samples[count++];
-      p.root = find(parent, node(u, v, region));
-      p.u = u, p.v = v;
+      p.cell = v * kGrid + u, p.region = region, p.u = u, p.v = v;
       decode_color(epi.color_at(qx, qy), p.rgb);
     }
 
@@ -166,14 +198,14 @@ void complex_impl(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, 
       for (int u = 0; u < kGrid; ++u)
         if (sub[v][u].kind != CellKind::complex)
           for (int region = 0; region < (sub[v][u].kind == CellKind::simple ? 2 : 1); ++region)
-            trace->sub[v][u].group[region] = find(parent, node(u, v, region));
+            trace->sub[v][u].group[region] = regions_of(v * kGrid + u, region).id();
 
   // Colour of one region of a centre sub-pixel; false when no sample reaches it (the estimate).
   auto region_color = [&](int u, int v, int region, float rgb[3]) -> bool {
-    const int root = find(parent, node(u, v, region));
+    const Regions& connected_to = regions_of(v * kGrid + u, region);
     float sum[3] = {0, 0, 0}, total = 0;
     for (int k = 0; k < count; ++k) {
-      if (samples[k].root != root) continue;
+      if (!connected_to.has(samples[k].cell, samples[k].region)) continue;
       const float d2 = float((samples[k].u - u) * (samples[k].u - u) + (samples[k].v - v) * (samples[k].v - v));
       const float w = 1.0f / ((1.0f + d2) * (1.0f + d2));
       for (int c = 0; c < 3; ++c) sum[c] += w * samples[k].rgb[c];
