@@ -15,6 +15,7 @@
 
 #include <hwy/highway.h>
 
+#include "simd/common-inl.h"
 #include "simd/row_kernels.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -39,12 +40,9 @@ HWY_INLINE void AntialiasLanes(DF df, const AntialiasRow& row, int x, const uint
   // Simple: 2 <= type < 14, i.e. (type - 2) < 12 unsigned; as an integer range on small values.
   const auto simple = hn::And(hn::Ne(hn::ShiftRight<1>(type), hn::Zero(du)),
                               hn::Eq(hn::And(hn::Add(type, two), hn::Set(du, ~15u)), hn::Zero(du)));
+  if (hn::AllFalse(du, simple)) return CopyPixels(df, own, out);  // most vectors: the colours pass through
   hn::Vec<DF> r, g, b;
   hn::LoadInterleaved3(df, own, r, g, b);
-  if (hn::AllFalse(du, simple)) {  // most vectors: no simple pixel, the colours pass through
-    hn::StoreInterleaved3(r, g, b, df, out);
-    return;
-  }
   const auto primary_is_b = hn::RebindMask(df, hn::Ne(hn::And(hn::Sub(type, two), one), hn::Zero(du)));
   const VI code_i = hn::BitCast(di, code);
   // One gather: area of A in bits 0-15, the secondary neighbours in bits 16-23.

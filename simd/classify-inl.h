@@ -33,6 +33,18 @@ HWY_INLINE void ClassifyLanes(DU du, const ClassifyRow& row, const uint8_t* top,
   const V zero = hn::Zero(du), one = hn::Set(du, 1u);
   const V sides[4] = {hn::PromoteTo(du, hn::LoadU(d8, top)), hn::PromoteTo(du, hn::LoadU(d8, right)),
                       hn::PromoteTo(du, hn::LoadU(d8, bottom)), hn::PromoteTo(du, hn::LoadU(d8, left))};
+  const V in_edge = hn::PromoteTo(du, hn::LoadU(d16, in));
+  const auto sample = hn::Ne(hn::And(in_edge, hn::Set(du, 1u << 14)), zero);
+  const auto counted = hn::FirstN(du, valid);
+  if (hn::AllTrue(du, hn::Eq(hn::Or(hn::Or(sides[0], sides[1]), hn::Or(sides[2], sides[3])), zero))) {
+    // No crossing on any side (most vectors): empty pixels, every sample usable.
+    const V edge = hn::Or(hn::And(in_edge, hn::Set(du, ~uint32_t(0x83ffu))), hn::IfThenElseZero(sample, hn::Set(du, 0x8000u)));
+    hn::StoreU(hn::DemoteTo(d16, hn::BitCast(di, edge)), d16, edge_out);
+    hn::StoreU(hn::Zero(d8), d8, types_out);
+    counts[0] += int64_t(valid);
+    counts[3] += int64_t(hn::CountTrue(du, hn::And(sample, counted)));
+    return;
+  }
   V count = zero, lo = hn::Set(du, 255u), hi = zero, one_per_side = hn::Set(du, ~0u);
   for (int s = 0; s < 4; ++s) {
     const V bits = hn::PopulationCount(sides[s]);
@@ -52,8 +64,6 @@ HWY_INLINE void ClassifyLanes(DU du, const ClassifyRow& row, const uint8_t* top,
   const auto simple = hn::And(hn::Eq(count, hn::Set(du, 2u)), hn::Ne(one_per_side, zero));
   const auto complex = hn::AndNot(simple, hn::Not(empty));  // neither empty nor simple
   const V code = hn::IfThenElseZero(simple, hn::Or(hn::ShiftLeft<5>(lo), hi));
-  const V in_edge = hn::PromoteTo(du, hn::LoadU(d16, in));
-  const auto sample = hn::Ne(hn::And(in_edge, hn::Set(du, 1u << 14)), zero);
   const V region = hn::And(hn::ShiftRight<10>(in_edge), hn::Set(du, 15u));
   const V area = hn::GatherIndex(du, row.area, hn::BitCast(di, code));
   const V sidedness = hn::GatherIndex(du, row.sidedness, hn::BitCast(di, code));
@@ -75,7 +85,6 @@ HWY_INLINE void ClassifyLanes(DU du, const ClassifyRow& row, const uint8_t* top,
                         hn::IfThenElseZero(usable, hn::Set(du, 0x8000u)));
   hn::StoreU(hn::DemoteTo(d16, hn::BitCast(di, edge)), d16, edge_out);
   hn::StoreU(hn::U8FromU32(type), d8, types_out);
-  const auto counted = hn::FirstN(du, valid);
   counts[0] += int64_t(hn::CountTrue(du, hn::And(empty, counted)));
   counts[1] += int64_t(hn::CountTrue(du, hn::And(simple, counted)));
   counts[2] += int64_t(hn::CountTrue(du, hn::And(complex, counted)));

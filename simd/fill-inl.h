@@ -14,6 +14,7 @@
 #include <hwy/highway.h>
 
 #include "simd/interpolate-inl.h"
+#include "simd/common-inl.h"
 #include "simd/row_kernels.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -26,13 +27,10 @@ template <class DF>
 HWY_INLINE void FillLanes(DF df, const FillRow& row, int x, const uint32_t* reach, float* out) {
   const hn::RebindToUnsigned<DF> du;
   const hn::Rebind<uint8_t, DF> d8;
+  const auto found = hn::Ne(hn::PromoteTo(du, hn::LoadU(d8, row.found[2] + x)), hn::Zero(du));
+  if (hn::AllTrue(du, found)) return CopyPixels(df, row.rows[2] + 3 * x, out);  // nothing to fill
   hn::Vec<DF> r, g, b;
   hn::LoadInterleaved3(df, row.rows[2] + 3 * x, r, g, b);
-  const auto found = hn::Ne(hn::PromoteTo(du, hn::LoadU(d8, row.found[2] + x)), hn::Zero(du));
-  if (hn::AllTrue(du, found)) {  // every pixel reached a sample: nothing to fill
-    hn::StoreInterleaved3(r, g, b, df, out);
-    return;
-  }
   // The 24-bit mask spread over the 25 window positions, the centre left out.
   const auto rm = hn::LoadU(du, reach);
   const auto take = hn::Or(hn::And(rm, hn::Set(du, 0xfffu)), hn::ShiftLeft<1>(hn::And(rm, hn::Set(du, 0xfff000u))));

@@ -155,10 +155,8 @@ void classify_stage(RowJob& j, int y) {
   } else {
     classify_row(j.masks, y, &j.in.edge[i0], edge, types, counts);
   }
-  if (!j.owned(y)) return;
-  if (edge != &j.out.edge[i0]) std::memcpy(&j.out.edge[i0], edge, size_t(j.width) * sizeof(uint16_t));
-  uint32_t* cache = &j.out.cache[i0];
-  for (int x = 0; x < j.width; ++x) cache[x] = uint32_t(types[x]) << bits::kTypeShift;
+  // The output's cache words are written by reachability (type and reach mask in one pass).
+  if (j.owned(y) && edge != &j.out.edge[i0]) std::memcpy(&j.out.edge[i0], edge, size_t(j.width) * sizeof(uint16_t));
 }
 
 bool vector_kernels(const RowJob& j) { return j.kernels && j.settings.filter == Filter::epi; }
@@ -174,12 +172,10 @@ void decode_stage(RowJob& j, int y) {
 
 void reachability_stage(RowJob& j, int y) {
   uint32_t* reach = j.reach.row(y);
-  if (j.settings.filter != Filter::epi) {
-    std::memset(reach, 0, size_t(j.width) * sizeof(uint32_t));
-    return;
-  }
   const TypeRows types{j.types.data, j.width, j.height, j.types.mask};
-  if (j.kernels) {
+  if (j.settings.filter != Filter::epi) {
+    std::memset(reach, 0, size_t(j.width) * sizeof(uint32_t));  // the render cache has no reachability
+  } else if (j.kernels) {
     const SideDescriptors& tables = side_descriptors();
     simd::ReachRow row{j.width, {}, tables.relation_lo, tables.relation_hi, reach, {}};
     for (int k = 0; k < 5; ++k) row.sides[k] = j.inside(y - 2 + k) ? j.sides.row(y - 2 + k) : j.outside_sides;
@@ -190,7 +186,8 @@ void reachability_stage(RowJob& j, int y) {
   }
   if (j.owned(y)) {
     uint32_t* cache = &j.out.cache[size_t(y) * size_t(j.width)];
-    for (int x = 0; x < j.width; ++x) cache[x] |= reach[x];
+    const uint8_t* type = j.types.row(y);
+    for (int x = 0; x < j.width; ++x) cache[x] = uint32_t(type[x]) << bits::kTypeShift | reach[x];
   }
 }
 
