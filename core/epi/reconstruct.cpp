@@ -33,7 +33,7 @@ void check_sizes(const EpiImage& epi, const BoundaryMasks& masks) {
 }
 
 bool use_complex_filter(const ReconstructSettings& s, const BoundaryMasks& masks) {
-  return s.filter == Filter::epi && s.complex_filter && masks.centre_lines;
+  return output_filter(s, masks.centre_lines, kTypeComplex) == OutputFilter::complex_filter;
 }
 
 float interpolate(const EpiRows& epi, const ReconstructSettings& s, int x, int y, uint32_t reach, float rgb[3],
@@ -267,7 +267,7 @@ void antialias_stage(RowJob& j, int y) {
     return;
   }
   for (int x = 0; x < j.width; ++x) {
-    if (on && type_is_simple(types[x])) {
+    if (output_filter(j.settings, j.masks.centre_lines, types[x]) == OutputFilter::antialiased) {
       antialias_pixel(epi, x, y, rows, out + 3 * x);
     } else {
       const float* own = rows[1] + 3 * x;
@@ -283,7 +283,8 @@ void complex_stage(RowJob& j, int y) {
   const float* filled = j.filled.row(y);
   float* out = j.image.row(y);
   for (int x = 0; x < j.width; ++x)
-    if (types[x] == kTypeComplex) complex_pixel(epi, j.masks, x, y, filled + 3 * x, out + 3 * x);
+    if (output_filter(j.settings, j.masks.centre_lines, types[x]) == OutputFilter::complex_filter)
+      complex_pixel(epi, j.masks, x, y, filled + 3 * x, out + 3 * x);
 }
 
 // The row kernel of each stage, in the order of kStages.

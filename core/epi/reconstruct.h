@@ -34,6 +34,17 @@ struct ReconstructSettings {
   bool fill = true;            // epi only; the fill step (fill.h); off: "EPI without fill"
 };
 
+// What makes a pixel's output colour from its filled primary colour (the last two stages):
+// the complex-pixel filter (complex pixels, when on and the masks hold centre lines),
+// anti-aliasing (simple pixels, when on), or nothing (the filled colour itself). The render
+// cache filter has neither. The schedules and the visualizer's trace (trace.h) both ask here.
+enum class OutputFilter { filled, antialiased, complex_filter };
+constexpr OutputFilter output_filter(const ReconstructSettings& s, bool centre_lines, int type) {
+  if (s.filter != Filter::epi) return OutputFilter::filled;
+  if (type == kTypeComplex && s.complex_filter && centre_lines) return OutputFilter::complex_filter;
+  return s.antialias && type_is_simple(type) ? OutputFilter::antialiased : OutputFilter::filled;
+}
+
 // How the tiled reconstructor splits the work (measured defaults: docs/performance.md).
 struct Schedule {
   int rows_per_band = 64;  // rows per parallel task (BM_ReconstructBandRows)

@@ -142,15 +142,16 @@ PixelTrace Tracer::trace(int x, int y) const {
             {dx, dy, kInterpolationWeights[(dy + 2) * 5 + dx + 2], to_rgb(interp_row(y + dy) + 3 * (x + dx))});
       }
 
-  // Output, as reconstruct.cpp's output_pixel.
+  // Output, by the schedules' own choice (reconstruct.h, output_filter).
   const float* filled_rows[3] = {y > 0 ? filled_row(y - 1) : nullptr, filled_row(y),
                                  y + 1 < h ? filled_row(y + 1) : nullptr};
   float out[3] = {p.filled[0], p.filled[1], p.filled[2]};
-  if (p.type == kTypeComplex && settings_.complex_filter && masks_.centre_lines) {
+  const OutputFilter output = output_filter(settings_, masks_.centre_lines, p.type);
+  if (output == OutputFilter::complex_filter) {
     p.output = PixelTrace::Output::complex_filter;
     p.estimate = p.filled;
     complex_pixel_traced(r, masks_, x, y, filled_row(y) + 3 * x, out, p.complex);
-  } else if (settings_.antialias && type_is_simple(p.type)) {
+  } else if (output == OutputFilter::antialiased) {
     p.output = PixelTrace::Output::antialiased;
     const int k = t.neighbour_for_secondary(p.code, !p.primary_is_b);
     const int nx = x + kNeighbourDx[k], ny = y + kNeighbourDy[k];
