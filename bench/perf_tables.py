@@ -3,7 +3,7 @@
 into the Markdown tables of docs/performance.md ("Reconstruction filters"), so that no figure
 there is typed by hand.
 
-  build/bin/epi_bench --benchmark_filter='BM_StreamingFloor|BM_Filters|BM_Reconstruct/' \\
+  build/bin/epi_bench --benchmark_filter='BM_StreamingFloor|BM_Filters|BM_Reconstruct/|BM_RenderCache|BM_ReachReuse' \\
       --benchmark_repetitions=3 --benchmark_min_time=0.05 --benchmark_format=json > filters.json
   python3 bench/perf_tables.py filters.json
 
@@ -51,6 +51,8 @@ def main(paths):
     filters = defaultdict(lambda: defaultdict(list))  # (w, h, edges, threads, kernel) -> stage -> [ms]
     whole = defaultdict(list)         # (w, h, edges, label) -> [ms]
     reuse = defaultdict(list)         # (w, h, symmetry) -> reachability CPU ms
+    rendercache = defaultdict(list)   # (w, h, kernel label) -> (filter, decode) CPU ms
+    rendercache_order = {}            # kernel label -> kernel argument (0 oracle, then best target first)
     kernels = {}
     for r in runs:
         bench, a = args(r["name"])
@@ -62,6 +64,9 @@ def main(paths):
             for s in STAGES:
                 key = f"{s}_cpu_ms" if threads == 1 else f"{s}_ms"
                 filters[(w, h, edges, threads, k)][s].append(r[key])
+        elif bench == "BM_RenderCacheFilter":
+            rendercache[(a[0], a[1], r["label"])].append((r["filter_cpu_ms"], r["decode_cpu_ms"]))
+            rendercache_order[r["label"]] = a[2]
         elif bench == "BM_ReachReuse":
             reuse[(a[0], a[1], a[2])].append(r["reachability_cpu_ms"])
         elif bench == "BM_Reconstruct":
@@ -104,6 +109,27 @@ def main(paths):
                 v = best(whole.get((w, h, edges, l), []))
                 cells.append("-" if v is None else f"{fmt(v)} ({fmt(v / fl) if fl else '-'})")
             out.append(f"| {SIZE_NAMES.get((w, h))} | {'many' if edges else 'few'} | " + " | ".join(cells) + " |")
+    if rendercache:
+        out.append("\n**Render cache filter** (one thread, CPU ms: the 3x3 filter with its 7x7 prefilter, "
+                   "+ decoding for the vector kernels; speed-up and x_floor of the two together)\n")
+        labels = sorted({k[2] for k in rendercache}, key=lambda l: rendercache_order[l])
+        out.append("| size | " + " | ".join(labels) + " | speed-up | x_floor |")
+        out.append("|---|" + "---|" * (len(labels) + 2))
+        for (w, h) in sorted({(k[0], k[1]) for k in rendercache}):
+            sums = {l: best([f + d for f, d in rendercache.get((w, h, l), [])]) for l in labels}
+            cells = []
+            for l in labels:
+                runs_l = rendercache.get((w, h, l), [])
+                if not runs_l:
+                    cells.append("-")
+                    continue
+                f, d = min(runs_l, key=lambda t: t[0] + t[1])
+                cells.append(fmt(f, 2) if l == "oracle" else f"{fmt(f, 2)} + {fmt(d, 2)}")
+            fast = min((v for l, v in sums.items() if l != "oracle" and v is not None), default=None)
+            oracle, fl = sums.get("oracle"), best(floor.get((w, h), []))
+            speedup = f"{oracle / fast:.1f}x" if oracle and fast else "-"
+            out.append(f"| {SIZE_NAMES.get((w, h))} | " + " | ".join(cells) + f" | {speedup} | "
+                       f"{fmt(fast / fl) if fast and fl else '-'} |")
     if reuse:
         out.append("\n**Reachability reused across rows** (the best target, one thread, CPU ms of the reachability stage)\n")
         out.append("| size | all 24 offsets | forward 14 + symmetry | saved |")

@@ -204,6 +204,34 @@ void BM_Filters(benchmark::State& state) {
                  std::to_string(threads) + "T");
 }
 
+// The render cache's filter (Filter::rendercache: the 3x3 comparison filter with its 7x7
+// prefilter, timed as the interpolation stage; decoding is the vector kernels' extra stage):
+// args width, height, kernel (0 oracle, else a target), one thread, few edges. Equal to the
+// render cache oracle, bit for bit, checked before timing.
+void BM_RenderCacheFilter(benchmark::State& state) {
+  Frame& f = frame(int(state.range(0)), int(state.range(1)));
+  const ReconstructSettings settings{Filter::rendercache};
+  static std::map<std::pair<int, int>, Reconstruction> oracles;
+  Reconstruction& oracle = oracles[{f.epi.width, f.epi.height}];
+  if (oracle.priority.empty()) oracle = reconstruct_oracle(f.epi, f.masks, settings);
+  Reconstructor reconstructor(kernel_choice(state.range(2)));
+  Reconstruction r;
+  ReconstructTimes times;
+  reconstructor.staged(f.epi, f.masks, settings, r, times, {64, 1});
+  if (!same_result(r, oracle)) return state.SkipWithError("the result differs from the oracle");
+  double filter = 0, decode = 0;
+  for (auto _ : state) {
+    reconstructor.staged(f.epi, f.masks, settings, r, times, {64, 1});
+    filter += times.cpu_ms[size_t(Stage::interpolate)], decode += times.cpu_ms[size_t(Stage::decode)];
+    state.SetIterationTime((times[Stage::interpolate] + times[Stage::decode]) * 1e-3);
+  }
+  const double n = double(state.iterations());
+  state.counters["filter_cpu_ms"] = filter / n;
+  state.counters["decode_cpu_ms"] = decode / n;
+  state.counters["x_floor"] = (filter + decode) / n * 1e-3 / f.floor_seconds;
+  state.SetLabel(reconstructor.kernel_name());
+}
+
 // The whole reconstruction: args width, height, kernel, threads, edges. Kernel 0 is the
 // oracle schedule (one thread, whole-image stages); the others the tiled row stream (bands of
 // 64 rows). Equal to the oracle, bit for bit, checked before timing.
@@ -357,6 +385,11 @@ BENCHMARK(BM_StreamingFloor)->Apply(SizesAll);
 BENCHMARK(BM_Rasterize)->Apply(Sizes);
 BENCHMARK(BM_Filters)->Apply(FilterArgs);
 BENCHMARK(BM_Reconstruct)->Apply(ReconstructArgs);
+BENCHMARK(BM_RenderCacheFilter)->Apply([](benchmark::internal::Benchmark* b) {
+  for (auto [w, h] : kFilterSizes)
+    for (int k = 0; k <= int(simd::compiled_targets().size()); ++k) b->Args({w, h, k});
+  b->Unit(benchmark::kMillisecond)->UseManualTime();
+});
 BENCHMARK(BM_ReachReuse)->Args({1920, 1080, 0})->Args({1920, 1080, 1})->Args({3840, 2160, 0})->Args({3840, 2160, 1})
     ->Unit(benchmark::kMillisecond)->UseManualTime();
 BENCHMARK(BM_ReconstructBandRows)->Arg(4)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
