@@ -43,10 +43,7 @@ for stage in $stages; do
       configure build-asan "-fsanitize=address,undefined -fno-sanitize-recover=undefined -fsanitize=fuzzer-no-link" \
         -DEPI_BUILD_FUZZ=ON -DEPI_FUZZ_SECONDS="${EPI_FUZZ_SECONDS:-20}"
       cmake --build "$root/build-asan" -j "$jobs"
-      # Kernels.ExtremeSizes: UBSan finds undefined behaviour on empty (0xN) images in core/epi's
-      # reconstruction and the simd test (null data() offsets, &v[0] of empty vectors, memcmp of
-      # null): left to the module's owner, listed in docs/reliability.md. Remove the -E when fixed.
-      ctest --test-dir "$root/build-asan" --output-on-failure -j "$jobs" -E "Kernels\.ExtremeSizes"
+      ctest --test-dir "$root/build-asan" --output-on-failure -j "$jobs"
       ;;
     tsan)
       # Only what runs threads of epi's own against each other: the asynchronous shader service
