@@ -149,15 +149,7 @@ TEST(ComplexFilter, EqualsThePlainReferenceOnRandomPatterns) {
 // A fine checker of 0.4-pixel squares (nearly every pixel complex, many sub-pixels complex),
 // and axis-aligned edges on pixel borders and centre lines.
 TEST(ComplexFilter, EqualsThePlainReferenceOnCheckersAndBorders) {
-  Pattern p;
-  p.width = 19, p.height = 11;
-  p.background = {0.9f, 0.1f, 0.2f};
-  for (int j = 0; j < 11 * 3; ++j)
-    for (int i = 0; i < 19 * 3; ++i)
-      if ((i + j) % 2 == 0) {
-        const double x = i * 0.34 + 0.05, y = j * 0.34 + 0.05;
-        p.polygons.push_back({{0.1f, 0.8f, 0.3f}, {{x, y}, {x + 0.3, y}, {x + 0.3, y + 0.3}, {x, y + 0.3}}});
-      }
+  const Pattern p = test::fine_checker(19, 11);
   for (double d : {0.3, 1.0}) EXPECT_GT(expect_equal_everywhere(test::build(p, d, 5), 9, "checker"), 19 * 11 / 2);
   Pattern q;
   q.width = 21, q.height = 13;

@@ -73,4 +73,19 @@ inline Pattern random_pattern(int w, int h, int count, uint64_t seed) {
   return p;
 }
 
+// A fine checker of 0.3-pixel squares 0.34 pixels apart in a w x h image: nearly every pixel
+// complex (and many sub-pixels of the complex filter too).
+inline Pattern fine_checker(int w, int h) {
+  Pattern p;
+  p.width = w, p.height = h;
+  p.background = {0.9f, 0.1f, 0.2f};
+  for (int j = 0; j < h * 3; ++j)
+    for (int i = 0; i < w * 3; ++i)
+      if ((i + j) % 2 == 0) {
+        const double x = i * 0.34 + 0.05, y = j * 0.34 + 0.05;
+        p.polygons.push_back({{0.1f, 0.8f, 0.3f}, {{x, y}, {x + 0.3, y}, {x + 0.3, y + 0.3}, {x, y + 0.3}}});
+      }
+  return p;
+}
+
 }  // namespace epi::test

@@ -95,15 +95,7 @@ TEST_P(Kernels, ExtremeSizes) {
 
 // A fine checker of 0.4-pixel squares: nearly every pixel complex.
 TEST_P(Kernels, EveryPixelComplex) {
-  Pattern p;
-  p.width = 23, p.height = 9;
-  p.background = {0.9f, 0.1f, 0.2f};
-  for (int j = 0; j < 9 * 3; ++j)
-    for (int i = 0; i < 23 * 3; ++i)
-      if ((i + j) % 2 == 0) {
-        const double x = i * 0.34 + 0.05, y = j * 0.34 + 0.05;
-        p.polygons.push_back({{0.1f, 0.8f, 0.3f}, {{x, y}, {x + 0.3, y}, {x + 0.3, y + 0.3}, {x, y + 0.3}}});
-      }
+  const Pattern p = test::fine_checker(23, 9);
   for (double d : {0.3, 1.0}) {
     const test::Built b = test::build(p, d, 5);
     const Reconstruction r = reconstruct_oracle(b.epi, b.masks, {});
