@@ -1,0 +1,125 @@
+#!/usr/bin/python3
+"""Plots of the speed/accuracy study (docs/tradeoff.md) from epi_study's study.csv.
+
+One PNG per knob and camera (path, still), scenes as panels: mean frame time (with shading, log
+scale) against mean display RMSE, the knob's settings labelled, the defaults as a black square,
+the baselines as grey crosses, the scene's Pareto front over every run (pareto_all) as a dashed
+step line, and the knob's own front (pareto_knob) drawn as filled markers (hollow: dominated).
+Also prints the Markdown table of the front per scene and camera (for docs/tradeoff.md).
+
+  /usr/bin/python3 bench/study/plot_study.py build/study/study.csv --out docs/tradeoff
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+COLUMNS = ["scene", "camera", "knob", "setting", "is_default", "frames", "evaluated", "ms", "ms_no_shade", "rmse",
+           "relative_mse", "over_0_1", "over_0_2", "rmse_last", "pareto_knob", "pareto_all"]
+
+
+def number(text):
+    return float(text) if text != "" else math.nan
+
+
+def read(path):
+    with open(path, newline="") as f:
+        reader = csv.DictReader(f)
+        if reader.fieldnames != COLUMNS:
+            sys.exit(f"{path}: columns {reader.fieldnames}, expected {COLUMNS} (epi_study's schema)")
+        rows = []
+        for r in reader:
+            for k in ("ms", "ms_no_shade", "rmse", "relative_mse", "over_0_1", "over_0_2", "rmse_last"):
+                r[k] = number(r[k])
+            for k in ("is_default", "pareto_knob", "pareto_all"):
+                r[k] = r[k] == "1"
+            rows.append(r)
+    if not rows:
+        sys.exit(f"{path}: no rows")
+    return rows
+
+
+def front_line(points):
+    """The Pareto front as a step line (x ascending, y falling)."""
+    pts = sorted(points)
+    xs, ys = [], []
+    for x, y in pts:
+        if xs:
+            xs.append(x), ys.append(ys[-1])
+        xs.append(x), ys.append(y)
+    return xs, ys
+
+
+def plot_knob(rows, knob, camera, scenes, out_dir):
+    fig, axes = plt.subplots(1, len(scenes), figsize=(4.2 * len(scenes), 3.8), squeeze=False)
+    for ax, scene in zip(axes[0], scenes):
+        group = [r for r in rows if r["scene"] == scene and r["camera"] == camera]
+        front = [(r["ms"], r["rmse"]) for r in group if r["pareto_all"]]
+        if front:
+            xs, ys = front_line(front)
+            ax.plot(xs, ys, "--", color="0.6", lw=1, label="front (all runs)")
+        for r in group:
+            if r["knob"] == "baseline":
+                ax.plot(r["ms"], r["rmse"], "x", color="0.4", ms=7)
+                ax.annotate(r["setting"], (r["ms"], r["rmse"]), fontsize=6, color="0.4", xytext=(3, -8),
+                            textcoords="offset points")
+            elif r["is_default"]:
+                ax.plot(r["ms"], r["rmse"], "s", color="black", ms=6, label="default")
+            elif r["knob"] == knob:
+                filled = r["pareto_knob"]
+                ax.plot(r["ms"], r["rmse"], "o", color="C0", mfc="C0" if filled else "none", ms=6)
+                ax.annotate(r["setting"], (r["ms"], r["rmse"]), fontsize=7, color="C0", xytext=(4, 3),
+                            textcoords="offset points")
+        ax.set_xscale("log")
+        ax.set_title(f"{scene} ({camera})", fontsize=9)
+        ax.set_xlabel("frame time incl. shading, ms (log)", fontsize=8)
+        ax.set_ylabel("display RMSE vs reference", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(True, which="both", lw=0.3, alpha=0.5)
+    axes[0][0].legend(fontsize=7, loc="upper right")
+    fig.suptitle(f"knob: {knob}   (filled: on the knob's Pareto front; x: baselines)", fontsize=10)
+    fig.tight_layout()
+    path = os.path.join(out_dir, f"{knob}_{camera}.png")
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+    return path
+
+
+def front_table(rows):
+    lines = ["| scene | camera | on the front (ms, RMSE), fastest first |", "|---|---|---|"]
+    keys = sorted({(r["scene"], r["camera"]) for r in rows})
+    for scene, camera in keys:
+        front = sorted((r for r in rows if r["scene"] == scene and r["camera"] == camera and r["pareto_all"]),
+                       key=lambda r: r["ms"])
+        cells = "; ".join(f"{r['knob']} {r['setting']} ({r['ms']:.1f}, {r['rmse']:.4f})" for r in front)
+        lines.append(f"| {scene} | {camera} | {cells} |")
+    return "\n".join(lines)
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("csv")
+    p.add_argument("--out", default="build/study/plots")
+    a = p.parse_args()
+    rows = read(a.csv)
+    os.makedirs(a.out, exist_ok=True)
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    knobs = [k for k in dict.fromkeys(r["knob"] for r in rows) if k not in ("default", "baseline")]
+    for camera in dict.fromkeys(r["camera"] for r in rows):
+        for knob in knobs:
+            knob_scenes = [s for s in scenes if any(r["scene"] == s and r["knob"] == knob and r["camera"] == camera
+                                                    for r in rows)]
+            if knob_scenes:
+                print(plot_knob(rows, knob, camera, knob_scenes, a.out))
+    print()
+    print(front_table(rows))
+
+
+if __name__ == "__main__":
+    main()
