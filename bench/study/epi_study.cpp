@@ -116,7 +116,7 @@ std::vector<Setting> all_settings() {
                    scale(c.shader.gi_paths);
                  }});
   }
-  for (double f : {0.5, 2.0, 4.0}) {
+  for (double f : {1.0, 2.0, 4.0}) {  // below 1 the cache clamps to 1 (point_cache.cpp)
     char name[32];
     std::snprintf(name, sizeof name, "x%g pixels", f);
     s.push_back({"cache_size", name, [f](Config& c) { c.frame.cache.capacity_factor = f; }});
@@ -217,6 +217,7 @@ class Study {
     Result r;
     r.summary = {name_, views.camera, setting.knob, setting.name};
     r.summary.is_default = setting.knob == "default";
+    r.summary.width = o_.size, r.summary.height = o_.size;
     auto record = [&](int f, double ms, double ms_no_shade, const RgbImage* image) {
       FrameRow row{name_, views.camera, setting.knob, setting.name, f, ms, ms_no_shade};
       row.rmse = row.relative_mse = row.over_0_1 = row.over_0_2 = kNaN;

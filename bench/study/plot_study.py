@@ -20,7 +20,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-COLUMNS = ["scene", "camera", "knob", "setting", "is_default", "frames", "evaluated", "ms", "ms_no_shade", "rmse",
+COLUMNS = ["scene", "camera", "knob", "setting", "width", "height", "is_default", "frames", "evaluated", "ms", "ms_no_shade", "rmse",
            "relative_mse", "over_0_1", "over_0_2", "rmse_last", "pareto_knob", "pareto_all"]
 
 
@@ -102,6 +102,37 @@ def front_table(rows):
     return "\n".join(lines)
 
 
+TARGETS = [("1080p at 60 fps", 1920, 1080, 60.0), ("4K at 30 fps", 3840, 2160, 30.0)]
+
+
+def budget_table(rows):
+    """The best setting (least RMSE) per scene and camera whose time, scaled from the measured size
+    to the target's pixel count (time per pixel held: derived, not measured), fits the target's
+    frame time; by the frame loop's time (shading on other cores) and by the time with shading."""
+    lines = ["| target | scene | camera | best, frame loop only (ms at target, RMSE) | best, shading included (ms at target, RMSE) |",
+             "|---|---|---|---|---|"]
+    keys = sorted({(r["scene"], r["camera"]) for r in rows})
+    for name, w, h, fps in TARGETS:
+        limit = 1000.0 / fps
+        for scene, camera in keys:
+            group = [r for r in rows if r["scene"] == scene and r["camera"] == camera]
+            cells = []
+            for column in ("ms_no_shade", "ms"):
+                timed = [(r[column] * w * h / (int(r["width"]) * int(r["height"])), r) for r in group
+                         if math.isfinite(r[column]) and math.isfinite(r["rmse"])]
+                fits = [(t, r) for t, r in timed if t <= limit]
+                if fits:
+                    t, r = min(fits, key=lambda tr: tr[1]["rmse"])
+                    cells.append(f"{r['knob']} {r['setting']} ({t:.1f}, {r['rmse']:.4f})")
+                elif timed:
+                    t, r = min(timed, key=lambda tr: tr[0])
+                    cells.append(f"none fits; fastest: {r['knob']} {r['setting']} ({t:.0f} = {t / limit:.1f}x over, {r['rmse']:.4f})")
+                else:
+                    cells.append("no timed run")
+            lines.append(f"| {name} | {scene} | {camera} | {cells[0]} | {cells[1]} |")
+    return "\n".join(lines)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("csv")
@@ -119,6 +150,8 @@ def main():
                 print(plot_knob(rows, knob, camera, knob_scenes, a.out))
     print()
     print(front_table(rows))
+    print()
+    print(budget_table(rows))
 
 
 if __name__ == "__main__":

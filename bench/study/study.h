@@ -51,6 +51,7 @@ std::vector<bool> pareto_front(std::span<const double> time, std::span<const dou
 // One row of the summary CSV (study.csv): a knob setting on one scene and camera.
 struct SummaryRow {
   std::string scene, camera, knob, setting;  // camera: "path" or "still"
+  int width = 0, height = 0;                 // image size
   bool is_default = false;                   // the default settings (knob "default")
   int frames = 0;                            // frames rendered
   int evaluated = 0;                         // of which compared with a reference

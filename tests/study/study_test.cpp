@@ -185,7 +185,7 @@ TEST(Pareto, MarkGroupsByScenePerKnobWithTheDefault) {
 TEST(Csv, HeaderMatchesRowsAndQuotes) {
   SummaryRow s = row("scene, with \"comma\"", "edges", "+hard+soft shadows", 1.5, 0.01);
   s.ms_no_shade = std::numeric_limits<double>::quiet_NaN();
-  s.frames = 7, s.evaluated = 3, s.pareto_all = true;
+  s.frames = 7, s.evaluated = 3, s.pareto_all = true, s.width = 640, s.height = 480;
   const std::vector<std::string> fields = split_csv_line(csv_line(s));
   ASSERT_EQ(fields.size(), summary_columns().size());
   EXPECT_EQ(split_csv_line(csv_header(summary_columns())), summary_columns());
@@ -200,6 +200,8 @@ TEST(Csv, HeaderMatchesRowsAndQuotes) {
   EXPECT_EQ(at("ms_no_shade"), "");  // not separable: empty, not "nan"
   EXPECT_EQ(at("frames"), "7");
   EXPECT_EQ(at("evaluated"), "3");
+  EXPECT_EQ(at("width"), "640");
+  EXPECT_EQ(at("height"), "480");
   EXPECT_EQ(at("pareto_all"), "1");
   EXPECT_EQ(at("pareto_knob"), "0");
   EXPECT_EQ(at("is_default"), "0");
