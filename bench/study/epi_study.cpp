@@ -5,7 +5,7 @@
 // mode, so shading is inside the frame and timed apart) and its error against a converged reference
 // of that view (io/image/image_compare: display RMSE, relative MSE, outlier shares, as `epi compare`).
 // References are cached on disk (study.h, cached_reference), so re-runs are cheap.
-//   epi_study [--quick] [--scenes a,b] [--knobs k,l] [--cameras path,still] [--size N]
+//   epi_study [--quick] [--scenes a,b] [--knobs k,l] [--cameras path,still] [--size N|WxH]
 //             [--path-frames N] [--frames N] [--ref-spp N] [--shader direct|glossy|gi]
 //             [--out DIR] [--cache DIR] [--list]
 // Writes DIR/study.csv (one row per scene, camera and setting) and DIR/study_frames.csv (per frame);
@@ -82,10 +82,23 @@ struct Options {
   std::vector<std::string> scenes = {"cornell_box", "torus_capsule", "chains", "rooms", "grid_dragon"};
   std::vector<std::string> knobs;  // empty: all
   std::vector<std::string> cameras = {"path", "still"};
-  int size = 256, path_frames = 120, frames = 6, ref_spp = 64;
+  int width = 256, height = 256, path_frames = 120, frames = 6, ref_spp = 64;
   ShaderKind shader = ShaderKind::direct;
   std::string out = "build/study", cache = "build/study-cache";
 };
+
+// A whole number for option `what`, or a clear error.
+int parse_int(const std::string& what, const std::string& text) {
+  size_t used = 0;
+  int v = 0;
+  try {
+    v = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size()) throw std::invalid_argument(what + " " + text + ": not a whole number");
+  return v;
+}
 
 int hardware_threads() { return int(std::max(1u, std::thread::hardware_concurrency())); }
 
@@ -190,13 +203,13 @@ class Study {
     ShaderSettings reference_shader;
     reference_shader.kind = o_.shader;
     for (int f : v.evaluated) {
-      ReferenceKey key{scene_hash_, -1, v.cameras[size_t(f)], reference_shader, o_.size, o_.size, o_.ref_spp};
+      ReferenceKey key{scene_hash_, -1, v.cameras[size_t(f)], reference_shader, o_.width, o_.height, o_.ref_spp};
       const std::string label = name_ + "_" + camera + "_" + std::to_string(f);
       bool rendered = false;
       const auto t = Clock::now();
       v.references.push_back(cached_reference(o_.cache, label, key, [&] {
         const Shader shader(loaded(-1).ray_scene, reference_shader);
-        return render_image(shader, View{key.camera, o_.size, o_.size}, o_.ref_spp);
+        return render_image(shader, View{key.camera, o_.width, o_.height}, o_.ref_spp);
       }, &rendered));
       if (rendered) std::printf("  reference %s: %d spp, %.1f s\n", label.c_str(), o_.ref_spp, ms_since(t) * 1e-3);
     }
@@ -205,7 +218,7 @@ class Study {
 
   Result run(const Setting& setting, const Views& views, double equal_time_ms) {
     Config c;
-    c.frame.width = o_.size, c.frame.height = o_.size, c.frame.sync = true, c.frame.seed = 5;
+    c.frame.width = o_.width, c.frame.height = o_.height, c.frame.sync = true, c.frame.seed = 5;
     c.shader.kind = o_.shader;
     if (setting.apply) setting.apply(c);
     if (c.baseline == Baseline::rendercache) c.frame.mode = RenderMode::rendercache;
@@ -217,7 +230,7 @@ class Study {
     Result r;
     r.summary = {name_, views.camera, setting.knob, setting.name};
     r.summary.is_default = setting.knob == "default";
-    r.summary.width = o_.size, r.summary.height = o_.size;
+    r.summary.width = o_.width, r.summary.height = o_.height;
     auto record = [&](int f, double ms, double ms_no_shade, const RgbImage* image) {
       FrameRow row{name_, views.camera, setting.knob, setting.name, f, ms, ms_no_shade};
       row.rmse = row.relative_mse = row.over_0_1 = row.over_0_2 = kNaN;
@@ -235,7 +248,7 @@ class Study {
       // Each frame stands alone: only the evaluated ones are rendered.
       for (int f : views.evaluated) {
         const auto t = Clock::now();
-        const RgbImage image = render_image(shader, View{views.cameras[size_t(f)], o_.size, o_.size}, 1);
+        const RgbImage image = render_image(shader, View{views.cameras[size_t(f)], o_.width, o_.height}, 1);
         record(f, ms_since(t), kNaN, &image);
       }
     } else if (c.baseline == Baseline::progressive) {
@@ -272,7 +285,7 @@ class Study {
   // this frame show what they last showed.
   template <typename Record>
   void progressive(const Shader& shader, const Views& views, double budget_ms, Record& record) {
-    const size_t pixels = size_t(o_.size) * size_t(o_.size);
+    const size_t pixels = size_t(o_.width) * size_t(o_.height);
     std::vector<uint32_t> order(pixels);
     std::iota(order.begin(), order.end(), 0u);
     std::mt19937_64 rng(7);
@@ -281,7 +294,7 @@ class Study {
     std::vector<glm::dvec3> sum(pixels, glm::dvec3(0.0));
     std::vector<uint32_t> count(pixels, 0), view_of(pixels, 0);
     RgbImage image;
-    image.width = o_.size, image.height = o_.size, image.pixels.assign(pixels * 3, 0.0f);
+    image.width = o_.width, image.height = o_.height, image.pixels.assign(pixels * 3, 0.0f);
     size_t cursor = 0;
     uint32_t view_id = 0;
     const size_t chunk = std::max<size_t>(64, pixels / 256);
@@ -293,13 +306,15 @@ class Study {
         const Camera& prev = views.cameras[f - 1];
         if (cam.eye != prev.eye || cam.target != prev.target || cam.up != prev.up || cam.yfov_degrees != prev.yfov_degrees) ++view_id;
       }
-      const View view{cam, o_.size, o_.size};
+      const View view{cam, o_.width, o_.height};
       const auto t = Clock::now();
+      double chunk_ms = 0.0;  // the last chunk's time: no chunk starts that would end past the budget
       do {
+        const auto tc = Clock::now();
         requests.clear();
         for (size_t k = 0; k < chunk; ++k, cursor = (cursor + 1) % pixels) {
           const uint32_t p = order[cursor];
-          requests.push_back({p, float(p % uint32_t(o_.size)) + jitter(rng), float(p / uint32_t(o_.size)) + jitter(rng)});
+          requests.push_back({p, float(p % uint32_t(o_.width)) + jitter(rng), float(p / uint32_t(o_.width)) + jitter(rng)});
         }
         batch.clear();
         shader.shade(view, requests, batch);
@@ -310,7 +325,8 @@ class Study {
           const glm::dvec3 mean = sum[p] / double(count[p]);
           for (int ch = 0; ch < 3; ++ch) image.pixels[p * 3 + size_t(ch)] = float(mean[ch]);
         }
-      } while (ms_since(t) < budget_ms);
+        chunk_ms = ms_since(tc);
+      } while (ms_since(t) + chunk_ms <= budget_ms);
       record(int(f), ms_since(t), kNaN, &image);
     }
   }
@@ -323,7 +339,7 @@ class Study {
 
 int usage() {
   std::fprintf(stderr,
-               "usage: epi_study [--quick] [--scenes a,b] [--knobs k,l] [--cameras path,still] [--size N] [--path-frames N]\n"
+               "usage: epi_study [--quick] [--scenes a,b] [--knobs k,l] [--cameras path,still] [--size N|WxH] [--path-frames N]\n"
                "                 [--frames N] [--ref-spp N] [--shader direct|glossy|gi] [--out DIR] [--cache DIR] [--list]\n");
   return 2;
 }
@@ -340,14 +356,18 @@ int main(int argc, char** argv) try {
       return std::string(argv[++k]);
     };
     if (a == "--quick") {
-      o.scenes = {"cornell_box", "torus_capsule", "rooms"}, o.size = 128, o.path_frames = 40, o.frames = 3, o.ref_spp = 16;
+      o.scenes = {"cornell_box", "torus_capsule", "rooms"}, o.width = o.height = 128, o.path_frames = 40, o.frames = 3, o.ref_spp = 16;
     } else if (a == "--scenes") o.scenes = split(value());
     else if (a == "--knobs") o.knobs = split(value());
     else if (a == "--cameras") o.cameras = split(value());
-    else if (a == "--size") o.size = std::stoi(value());
-    else if (a == "--path-frames") o.path_frames = std::stoi(value());
-    else if (a == "--frames") o.frames = std::stoi(value());
-    else if (a == "--ref-spp") o.ref_spp = std::stoi(value());
+    else if (a == "--size") {
+      const std::string v = value();  // N or WxH
+      const size_t x = v.find('x');
+      o.width = parse_int(a, v.substr(0, x)), o.height = x == std::string::npos ? o.width : parse_int(a, v.substr(x + 1));
+    }
+    else if (a == "--path-frames") o.path_frames = parse_int(a, value());
+    else if (a == "--frames") o.frames = parse_int(a, value());
+    else if (a == "--ref-spp") o.ref_spp = parse_int(a, value());
     else if (a == "--out") o.out = value();
     else if (a == "--cache") o.cache = value();
     else if (a == "--list") list = true;
@@ -362,7 +382,7 @@ int main(int argc, char** argv) try {
       return usage();
     }
   }
-  if (o.size < 8 || o.path_frames < 1 || o.frames < 1 || o.ref_spp < 1 || o.scenes.empty()) return usage();
+  if (o.width < 8 || o.height < 8 || o.path_frames < 1 || o.frames < 1 || o.ref_spp < 1 || o.scenes.empty()) return usage();
   for (const std::string& c : o.cameras)
     if (c != "path" && c != "still") throw std::invalid_argument("--cameras " + c + ": expected path or still");
 
@@ -386,8 +406,8 @@ int main(int argc, char** argv) try {
   frames_out << csv_header(frame_columns()) << "\n";
   std::vector<SummaryRow> summary;
   const auto start = Clock::now();
-  std::printf("epi_study: %dx%d, %d frames per camera (%d compared), references %d spp, %zu settings, %d cores\n", o.size,
-              o.size, o.path_frames, std::min(o.frames, o.path_frames), o.ref_spp, settings.size(), hardware_threads());
+  std::printf("epi_study: %dx%d, %d frames per camera (%d compared), references %d spp, %zu settings, %d cores\n", o.width,
+              o.height, o.path_frames, std::min(o.frames, o.path_frames), o.ref_spp, settings.size(), hardware_threads());
   for (const std::string& name : o.scenes) {
     Study study(o, name);
     for (const std::string& camera : o.cameras) {

@@ -64,6 +64,7 @@ def plot_knob(rows, knob, camera, scenes, out_dir):
         if front:
             xs, ys = front_line(front)
             ax.plot(xs, ys, "--", color="0.6", lw=1, label="front (all runs)")
+        shown = 0
         for r in group:
             if r["knob"] == "baseline":
                 ax.plot(r["ms"], r["rmse"], "x", color="0.4", ms=7)
@@ -74,8 +75,9 @@ def plot_knob(rows, knob, camera, scenes, out_dir):
             elif r["knob"] == knob:
                 filled = r["pareto_knob"]
                 ax.plot(r["ms"], r["rmse"], "o", color="C0", mfc="C0" if filled else "none", ms=6)
-                ax.annotate(r["setting"], (r["ms"], r["rmse"]), fontsize=7, color="C0", xytext=(4, 3),
-                            textcoords="offset points")
+                shown += 1
+                ax.annotate(r["setting"], (r["ms"], r["rmse"]), fontsize=7, color="C0",
+                            xytext=(4, 3 if shown % 2 else -9), textcoords="offset points")
         ax.set_xscale("log")
         ax.set_title(f"{scene} ({camera})", fontsize=9)
         ax.set_xlabel("frame time incl. shading, ms (log)", fontsize=8)
@@ -109,8 +111,8 @@ def budget_table(rows):
     """The best setting (least RMSE) per scene and camera whose time, scaled from the measured size
     to the target's pixel count (time per pixel held: derived, not measured), fits the target's
     frame time; by the frame loop's time (shading on other cores) and by the time with shading."""
-    lines = ["| target | scene | camera | best, frame loop only (ms at target, RMSE) | best, shading included (ms at target, RMSE) |",
-             "|---|---|---|---|---|"]
+    lines = ["| target | scene | camera | times | best, frame loop only (ms at target, RMSE) | best, shading included (ms at target, RMSE) |",
+             "|---|---|---|---|---|---|"]
     keys = sorted({(r["scene"], r["camera"]) for r in rows})
     for name, w, h, fps in TARGETS:
         limit = 1000.0 / fps
@@ -129,7 +131,9 @@ def budget_table(rows):
                     cells.append(f"none fits; fastest: {r['knob']} {r['setting']} ({t:.0f} = {t / limit:.1f}x over, {r['rmse']:.4f})")
                 else:
                     cells.append("no timed run")
-            lines.append(f"| {name} | {scene} | {camera} | {cells[0]} | {cells[1]} |")
+            sizes = sorted({f"{r['width']}x{r['height']}" for r in group})
+            how = "measured" if sizes == [f"{w}x{h}"] else "derived from " + ", ".join(sizes)
+            lines.append(f"| {name} | {scene} | {camera} | {how} | {cells[0]} | {cells[1]} |")
     return "\n".join(lines)
 
 
