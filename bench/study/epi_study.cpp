@@ -82,7 +82,7 @@ struct Options {
   std::vector<std::string> scenes = {"cornell_box", "torus_capsule", "chains", "rooms", "grid_dragon"};
   std::vector<std::string> knobs;  // empty: all
   std::vector<std::string> cameras = {"path", "still"};
-  int width = 256, height = 256, path_frames = 120, frames = 6, ref_spp = 64;
+  int width = 256, height = 256, path_frames = 120, frames = 4, ref_spp = 32;
   ShaderKind shader = ShaderKind::direct;
   std::string out = "build/study", cache = "build/study-cache";
 };
