@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <functional>
 #include <limits>
@@ -46,6 +47,8 @@ using Clock = std::chrono::steady_clock;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+// Process CPU time (all threads), ms: what a frame costs whatever else the machine runs.
+double cpu_ms() { return double(std::clock()) * 1000.0 / CLOCKS_PER_SEC; }
 
 // The median (NaN if any is NaN): frame times on a loaded machine have spikes a mean would follow.
 double median(std::vector<double> v) {
@@ -231,8 +234,8 @@ class Study {
     r.summary = {name_, views.camera, setting.knob, setting.name};
     r.summary.is_default = setting.knob == "default";
     r.summary.width = o_.width, r.summary.height = o_.height;
-    auto record = [&](int f, double ms, double ms_no_shade, const RgbImage* image) {
-      FrameRow row{name_, views.camera, setting.knob, setting.name, f, ms, ms_no_shade};
+    auto record = [&](int f, double ms, double ms_no_shade, double cpu, const RgbImage* image) {
+      FrameRow row{name_, views.camera, setting.knob, setting.name, f, ms, ms_no_shade, cpu};
       row.rmse = row.relative_mse = row.over_0_1 = row.over_0_2 = kNaN;
       const auto it = std::find(views.evaluated.begin(), views.evaluated.end(), f);
       if (image && it != views.evaluated.end()) {
@@ -248,25 +251,28 @@ class Study {
       // Each frame stands alone: only the evaluated ones are rendered.
       for (int f : views.evaluated) {
         const auto t = Clock::now();
+        const double c0 = cpu_ms();
         const RgbImage image = render_image(shader, View{views.cameras[size_t(f)], o_.width, o_.height}, 1);
-        record(f, ms_since(t), kNaN, &image);
+        record(f, ms_since(t), kNaN, cpu_ms() - c0, &image);
       }
     } else if (c.baseline == Baseline::progressive) {
       progressive(shader, views, equal_time_ms, record);
     } else {
       FrameRenderer renderer(l.scene, l.ray_scene, shader, c.frame);
       for (size_t f = 0; f < views.cameras.size(); ++f) {
+        const double c0 = cpu_ms();
         const RgbImage& image = renderer.render(views.cameras[f]);
+        const double cpu = cpu_ms() - c0;
         const StageTimes& ms = renderer.stats().ms;
-        record(int(f), ms.total, ms.total - ms.shade, &image);
+        record(int(f), ms.total, ms.total - ms.shade, cpu, &image);
       }
     }
 
     SummaryRow& s = r.summary;
     s.rmse = s.relative_mse = s.over_0_1 = s.over_0_2 = 0;
-    std::vector<double> ms, ms_no_shade;
-    for (const FrameRow& row : r.frames) ms.push_back(row.ms), ms_no_shade.push_back(row.ms_no_shade);
-    s.ms = median(ms), s.ms_no_shade = median(ms_no_shade);
+    std::vector<double> ms, ms_no_shade, cpu;
+    for (const FrameRow& row : r.frames) ms.push_back(row.ms), ms_no_shade.push_back(row.ms_no_shade), cpu.push_back(row.cpu_ms);
+    s.ms = median(ms), s.ms_no_shade = median(ms_no_shade), s.cpu_ms = median(cpu);
     for (const FrameRow& row : r.frames) {
       ++s.frames;
       if (!row.evaluated) continue;
@@ -308,6 +314,7 @@ class Study {
       }
       const View view{cam, o_.width, o_.height};
       const auto t = Clock::now();
+      const double c0 = cpu_ms();
       double chunk_ms = 0.0;  // the last chunk's time: no chunk starts that would end past the budget
       do {
         const auto tc = Clock::now();
@@ -327,7 +334,7 @@ class Study {
         }
         chunk_ms = ms_since(tc);
       } while (ms_since(t) + chunk_ms <= budget_ms);
-      record(int(f), ms_since(t), kNaN, &image);
+      record(int(f), ms_since(t), kNaN, cpu_ms() - c0, &image);
     }
   }
 

@@ -20,7 +20,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-COLUMNS = ["scene", "camera", "knob", "setting", "width", "height", "is_default", "frames", "evaluated", "ms", "ms_no_shade", "rmse",
+COLUMNS = ["scene", "camera", "knob", "setting", "width", "height", "is_default", "frames", "evaluated", "ms", "ms_no_shade", "cpu_ms", "rmse",
            "relative_mse", "over_0_1", "over_0_2", "rmse_last", "pareto_knob", "pareto_all"]
 
 
@@ -35,7 +35,7 @@ def read(path):
             sys.exit(f"{path}: columns {reader.fieldnames}, expected {COLUMNS} (epi_study's schema)")
         rows = []
         for r in reader:
-            for k in ("ms", "ms_no_shade", "rmse", "relative_mse", "over_0_1", "over_0_2", "rmse_last"):
+            for k in ("ms", "ms_no_shade", "cpu_ms", "rmse", "relative_mse", "over_0_1", "over_0_2", "rmse_last"):
                 r[k] = number(r[k])
             for k in ("is_default", "pareto_knob", "pareto_all"):
                 r[k] = r[k] == "1"

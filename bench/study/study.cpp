@@ -119,14 +119,14 @@ std::vector<bool> pareto_front(std::span<const double> time, std::span<const dou
 
 const std::vector<std::string>& summary_columns() {
   static const std::vector<std::string> c = {"scene", "camera", "knob", "setting", "width", "height", "is_default", "frames", "evaluated",
-                                             "ms", "ms_no_shade", "rmse", "relative_mse", "over_0_1", "over_0_2",
+                                             "ms", "ms_no_shade", "cpu_ms", "rmse", "relative_mse", "over_0_1", "over_0_2",
                                              "rmse_last", "pareto_knob", "pareto_all"};
   return c;
 }
 
 const std::vector<std::string>& frame_columns() {
   static const std::vector<std::string> c = {"scene", "camera", "knob", "setting", "frame", "ms", "ms_no_shade",
-                                             "evaluated", "rmse", "relative_mse", "over_0_1", "over_0_2"};
+                                             "cpu_ms", "evaluated", "rmse", "relative_mse", "over_0_1", "over_0_2"};
   return c;
 }
 
@@ -135,14 +135,14 @@ std::string csv_header(const std::vector<std::string>& columns) { return join(co
 std::string csv_line(const SummaryRow& r) {
   return join({text(r.scene), text(r.camera), text(r.knob), text(r.setting), std::to_string(r.width),
                std::to_string(r.height), r.is_default ? "1" : "0",
-               std::to_string(r.frames), std::to_string(r.evaluated), number(r.ms), number(r.ms_no_shade), number(r.rmse),
+               std::to_string(r.frames), std::to_string(r.evaluated), number(r.ms), number(r.ms_no_shade), number(r.cpu_ms), number(r.rmse),
                number(r.relative_mse), number(r.over_0_1), number(r.over_0_2), number(r.rmse_last),
                r.pareto_knob ? "1" : "0", r.pareto_all ? "1" : "0"});
 }
 
 std::string csv_line(const FrameRow& r) {
   return join({text(r.scene), text(r.camera), text(r.knob), text(r.setting), std::to_string(r.frame), number(r.ms),
-               number(r.ms_no_shade), r.evaluated ? "1" : "0", number(r.rmse), number(r.relative_mse),
+               number(r.ms_no_shade), number(r.cpu_ms), r.evaluated ? "1" : "0", number(r.rmse), number(r.relative_mse),
                number(r.over_0_1), number(r.over_0_2)});
 }
 

@@ -56,6 +56,7 @@ struct SummaryRow {
   int frames = 0;                            // frames rendered
   int evaluated = 0;                         // of which compared with a reference
   double ms = 0, ms_no_shade = 0;            // median frame time, ms; without shading (NaN: not separable)
+  double cpu_ms = 0;                         // median process CPU time per frame, all threads (load-robust)
   double rmse = 0, relative_mse = 0, over_0_1 = 0, over_0_2 = 0;  // means over the evaluated frames
   double rmse_last = 0;                      // the last evaluated frame's display RMSE
   // On the front of this knob's settings and the default (scene and camera fixed); for the default
@@ -68,7 +69,7 @@ struct SummaryRow {
 struct FrameRow {
   std::string scene, camera, knob, setting;
   int frame = 0;
-  double ms = 0, ms_no_shade = 0;
+  double ms = 0, ms_no_shade = 0, cpu_ms = 0;
   bool evaluated = false;
   double rmse = 0, relative_mse = 0, over_0_1 = 0, over_0_2 = 0;  // NaN when not evaluated
 };

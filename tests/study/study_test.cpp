@@ -211,7 +211,8 @@ TEST(Csv, HeaderMatchesRowsAndQuotes) {
   const std::vector<std::string> ff = split_csv_line(csv_line(f));
   ASSERT_EQ(ff.size(), frame_columns().size());
   EXPECT_EQ(ff[4], "12");
-  EXPECT_EQ(ff[8], "0.5");
+  EXPECT_EQ(ff[9], "0.5");
+  EXPECT_EQ(split_csv_line(csv_header(frame_columns())), frame_columns());
 }
 
 }  // namespace
