@@ -8,6 +8,7 @@
 //   epi_study [--quick] [--scenes a,b] [--knobs k,l] [--cameras path,still] [--size N|WxH]
 //             [--path-frames N] [--frames N] [--ref-spp N] [--shader direct|glossy|gi]
 //             [--out DIR] [--cache DIR] [--list]
+//   epi_study --mark study.csv     (marks the Pareto fronts again, e.g. after concatenating runs)
 // Writes DIR/study.csv (one row per scene, camera and setting) and DIR/study_frames.csv (per frame);
 // bench/study/plot_study.py draws the plots.
 #include <algorithm>
@@ -347,7 +348,8 @@ class Study {
 int usage() {
   std::fprintf(stderr,
                "usage: epi_study [--quick] [--scenes a,b] [--knobs k,l] [--cameras path,still] [--size N|WxH] [--path-frames N]\n"
-               "                 [--frames N] [--ref-spp N] [--shader direct|glossy|gi] [--out DIR] [--cache DIR] [--list]\n");
+               "                 [--frames N] [--ref-spp N] [--shader direct|glossy|gi] [--out DIR] [--cache DIR] [--list]\n"
+               "       epi_study --mark study.csv\n");
   return 2;
 }
 
@@ -378,6 +380,14 @@ int main(int argc, char** argv) try {
     else if (a == "--out") o.out = value();
     else if (a == "--cache") o.cache = value();
     else if (a == "--list") list = true;
+    else if (a == "--mark") {  // re-mark the fronts of a study.csv (e.g. rows of several runs concatenated)
+      const std::string file = value();
+      std::vector<SummaryRow> rows = read_summary(file);
+      mark_pareto(rows);
+      write_summary(file, rows);
+      std::printf("epi_study: fronts of %zu rows marked in %s\n", rows.size(), file.c_str());
+      return 0;
+    }
     else if (a == "--shader") {
       const std::string s = value();
       if (s == "direct") o.shader = ShaderKind::direct;
@@ -435,12 +445,7 @@ int main(int argc, char** argv) try {
   mark_pareto(summary);
   frames_out.close();
   std::filesystem::rename(frames_file.string() + ".tmp", frames_file);
-  {
-    std::ofstream out(summary_file.string() + ".tmp");
-    out << csv_header(summary_columns()) << "\n";
-    for (const SummaryRow& row : summary) out << csv_line(row) << "\n";
-  }
-  std::filesystem::rename(summary_file.string() + ".tmp", summary_file);
+  write_summary(summary_file, summary);
   std::printf("epi_study: %zu rows in %s, %.0f s\n", summary.size(), summary_file.c_str(), ms_since(start) * 1e-3);
   return 0;
 } catch (const std::exception& e) {

@@ -3,9 +3,11 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 
 #include "image_io.h"
 
@@ -167,11 +169,12 @@ std::vector<std::string> split_csv_line(const std::string& line) {
 }
 
 void mark_pareto(std::vector<SummaryRow>& rows) {
-  std::map<std::pair<std::string, std::string>, std::vector<size_t>> groups;  // (scene, camera) -> rows
-  for (size_t i = 0; i < rows.size(); ++i) groups[{rows[i].scene, rows[i].camera}].push_back(i);
+  std::map<std::tuple<std::string, std::string, int, int>, std::vector<size_t>> groups;  // (scene, camera, size) -> rows
+  for (size_t i = 0; i < rows.size(); ++i)
+    groups[{rows[i].scene, rows[i].camera, rows[i].width, rows[i].height}].push_back(i);
   auto front_of = [&](const std::vector<size_t>& members) {
     std::vector<double> t, e;
-    for (size_t i : members) t.push_back(rows[i].ms), e.push_back(rows[i].rmse);
+    for (size_t i : members) t.push_back(rows[i].cpu_ms), e.push_back(rows[i].rmse);
     return pareto_front(t, e);
   };
   for (const auto& [key, members] : groups) {
@@ -192,6 +195,52 @@ void mark_pareto(std::vector<SummaryRow>& rows) {
         if (knob_rows[m] != default_index || !default_row) rows[knob_rows[m]].pareto_knob = front[m];
     }
   }
+}
+
+std::vector<SummaryRow> read_summary(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw std::runtime_error(file.string() + ": cannot be read");
+  std::string line;
+  if (!std::getline(in, line) || split_csv_line(line) != summary_columns())
+    throw std::runtime_error(file.string() + ":1: not the header of a study.csv (" + csv_header(summary_columns()) + ")");
+  std::vector<SummaryRow> rows;
+  for (int n = 2; std::getline(in, line); ++n) {
+    const std::vector<std::string> f = split_csv_line(line);
+    const std::string where = file.string() + ":" + std::to_string(n) + ": ";
+    if (f.size() != summary_columns().size())
+      throw std::runtime_error(where + std::to_string(f.size()) + " fields, expected " + std::to_string(summary_columns().size()));
+    auto real = [&](size_t k) {
+      if (f[k].empty()) return std::numeric_limits<double>::quiet_NaN();
+      size_t used = 0;
+      double v = 0;
+      try {
+        v = std::stod(f[k], &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != f[k].size() || used == 0) throw std::runtime_error(where + summary_columns()[k] + " '" + f[k] + "' is not a number");
+      return v;
+    };
+    SummaryRow r;
+    r.scene = f[0], r.camera = f[1], r.knob = f[2], r.setting = f[3];
+    r.width = int(real(4)), r.height = int(real(5)), r.is_default = f[6] == "1", r.frames = int(real(7));
+    r.evaluated = int(real(8)), r.ms = real(9), r.ms_no_shade = real(10), r.cpu_ms = real(11), r.rmse = real(12);
+    r.relative_mse = real(13), r.over_0_1 = real(14), r.over_0_2 = real(15), r.rmse_last = real(16);
+    r.pareto_knob = f[17] == "1", r.pareto_all = f[18] == "1";
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+void write_summary(const std::filesystem::path& file, const std::vector<SummaryRow>& rows) {
+  const std::filesystem::path temporary = file.string() + ".tmp";
+  {
+    std::ofstream out(temporary);
+    out << csv_header(summary_columns()) << "\n";
+    for (const SummaryRow& row : rows) out << csv_line(row) << "\n";
+    if (!out) throw std::runtime_error(temporary.string() + ": cannot be written");
+  }
+  std::filesystem::rename(temporary, file);
 }
 
 }  // namespace epi::study

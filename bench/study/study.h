@@ -59,10 +59,10 @@ struct SummaryRow {
   double cpu_ms = 0;                         // median process CPU time per frame, all threads (load-robust)
   double rmse = 0, relative_mse = 0, over_0_1 = 0, over_0_2 = 0;  // means over the evaluated frames
   double rmse_last = 0;                      // the last evaluated frame's display RMSE
-  // On the front of this knob's settings and the default (scene and camera fixed); for the default
+  // On the front of this knob's settings and the default (scene, camera and size fixed); for the default
   // and the baselines (knob "baseline"): the same as pareto_all.
   bool pareto_knob = false;
-  bool pareto_all = false;  // on the front of every row of this scene and camera
+  bool pareto_all = false;  // on the front of every row of this scene, camera and size
 };
 
 // One row of the per-frame CSV (study_frames.csv).
@@ -84,8 +84,15 @@ std::string csv_header(const std::vector<std::string>& columns);
 // Splits one CSV line as csv_line writes it (quoted fields, doubled quotes); for the tests.
 std::vector<std::string> split_csv_line(const std::string& line);
 
-// Sets pareto_knob and pareto_all on every row (groups as documented on SummaryRow; time: ms,
+// Sets pareto_knob and pareto_all on every row (groups as documented on SummaryRow; time: cpu_ms,
+// the work a frame costs, which the load of a shared machine moves far less than wall time;
 // error: rmse).
 void mark_pareto(std::vector<SummaryRow>& rows);
+
+// Reads a study.csv as csv_line wrote it (the header must be summary_columns()); throws
+// std::runtime_error naming the file and line otherwise. Empty cells read as NaN.
+std::vector<SummaryRow> read_summary(const std::filesystem::path& file);
+// Writes rows with the header, atomically (a temporary file renamed into place).
+void write_summary(const std::filesystem::path& file, const std::vector<SummaryRow>& rows);
 
 }  // namespace epi::study

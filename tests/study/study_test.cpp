@@ -157,7 +157,8 @@ TEST(Pareto, RandomCloudsAgainstTheDefinition) {
 
 SummaryRow row(std::string scene, std::string knob, std::string setting, double ms, double rmse) {
   SummaryRow r;
-  r.scene = scene, r.camera = "path", r.knob = knob, r.setting = setting, r.ms = ms, r.rmse = rmse;
+  r.scene = scene, r.camera = "path", r.knob = knob, r.setting = setting, r.cpu_ms = ms, r.rmse = rmse;
+  r.ms = 1000 - ms;  // wall time, not the front's axis: reversed, so a front on it would differ
   r.is_default = knob == "default";
   return r;
 }
@@ -171,7 +172,9 @@ TEST(Pareto, MarkGroupsByScenePerKnobWithTheDefault) {
       row("a", "baseline", "raytrace", 4, 0.30),
       row("b", "default", "default", 100, 1.0),  // another scene: its own group
       row("b", "budget", "0.01", 50, 2.0),
+      row("a", "budget", "0.01", 1, 0.01),  // a at another size: its own group, beats nothing above
   };
+  rows.back().width = 1920;
   mark_pareto(rows);
   EXPECT_TRUE(rows[0].pareto_all && rows[0].pareto_knob);
   EXPECT_TRUE(rows[1].pareto_all && rows[1].pareto_knob);
@@ -180,6 +183,7 @@ TEST(Pareto, MarkGroupsByScenePerKnobWithTheDefault) {
   EXPECT_TRUE(rows[3].pareto_knob);  // within {antialias off, default} it is the faster one
   EXPECT_TRUE(rows[4].pareto_all && rows[4].pareto_knob);  // the baseline: as the scene's front
   EXPECT_TRUE(rows[5].pareto_all && rows[6].pareto_all);  // b's rows do not compete with a's
+  EXPECT_TRUE(rows[7].pareto_all);
 }
 
 TEST(Csv, HeaderMatchesRowsAndQuotes) {
@@ -196,7 +200,8 @@ TEST(Csv, HeaderMatchesRowsAndQuotes) {
   };
   EXPECT_EQ(at("scene"), "scene, with \"comma\"");
   EXPECT_EQ(at("setting"), "+hard+soft shadows");
-  EXPECT_EQ(at("ms"), "1.5");
+  EXPECT_EQ(at("cpu_ms"), "1.5");
+  EXPECT_EQ(at("ms"), "998.5");
   EXPECT_EQ(at("ms_no_shade"), "");  // not separable: empty, not "nan"
   EXPECT_EQ(at("frames"), "7");
   EXPECT_EQ(at("evaluated"), "3");
@@ -213,6 +218,36 @@ TEST(Csv, HeaderMatchesRowsAndQuotes) {
   EXPECT_EQ(ff[4], "12");
   EXPECT_EQ(ff[9], "0.5");
   EXPECT_EQ(split_csv_line(csv_header(frame_columns())), frame_columns());
+}
+
+TEST(Csv, SummaryRoundTripsAndBadFilesAreNamed) {
+  const std::filesystem::path file = std::filesystem::path(testing::TempDir()) / "study_roundtrip.csv";
+  SummaryRow a = row("a, \"quoted\"", "budget", "0.01", 5.5, 0.125);
+  a.width = 256, a.height = 128, a.frames = 60, a.evaluated = 4, a.ms_no_shade = std::numeric_limits<double>::quiet_NaN();
+  a.relative_mse = 0.25, a.over_0_1 = 0.5, a.over_0_2 = 0.0625, a.rmse_last = 0.375, a.pareto_knob = true;
+  SummaryRow b = row("b", "default", "default", 7, 0.5);
+  write_summary(file, {a, b});
+  const std::vector<SummaryRow> back = read_summary(file);
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(csv_line(back[0]), csv_line(a));
+  EXPECT_EQ(csv_line(back[1]), csv_line(b));
+  EXPECT_TRUE(std::isnan(back[0].ms_no_shade));
+  EXPECT_TRUE(back[1].is_default);
+
+  std::ofstream(file) << "scene,camera\nx,y\n";
+  EXPECT_THROW(read_summary(file), std::runtime_error);
+  {
+    std::ofstream out(file);
+    out << csv_header(summary_columns()) << "\n" << csv_line(a) << "\n";
+    out << "b,path,budget,0.1,64,64,0,1,1,abc,1,1,1,1,1,1,1,0,0\n";
+  }
+  try {
+    read_summary(file);
+    FAIL() << "no throw";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(":3: ms 'abc'"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove(file);
 }
 
 }  // namespace
