@@ -113,6 +113,7 @@ class FrameRenderer {
   const std::vector<edges::SceneEdge>& scene_edges() const { return edges_; }  // this frame's, world space
   const edges::SceneEdgeFinder* edge_finder() const { return finder_.get(); }
   double edge_finder_build_ms() const { return finder_ ? finder_->build_ms() : 0.0; }
+  const char* kernel_name() const { return reconstructor_.kernel_name(); }  // "oracle" or the SIMD target's
   int frame() const { return frame_; }
   const std::vector<glm::vec3>& light_positions() const { return light_positions_; }  // as placed now
   // The light positions recorded with the newest shot (what its requests are traced with).
