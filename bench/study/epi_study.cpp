@@ -359,6 +359,9 @@ int usage() {
 int main(int argc, char** argv) try {
   Options o;
   bool list = false;
+  for (int k = 1; k < argc; ++k)
+    if (std::string(argv[k]) == "--quick")
+      o.scenes = {"cornell_box", "torus_capsule", "rooms"}, o.width = o.height = 128, o.path_frames = 40, o.frames = 3, o.ref_spp = 16;
   for (int k = 1; k < argc; ++k) {
     const std::string a = argv[k];
     auto value = [&] {
@@ -366,7 +369,7 @@ int main(int argc, char** argv) try {
       return std::string(argv[++k]);
     };
     if (a == "--quick") {
-      o.scenes = {"cornell_box", "torus_capsule", "rooms"}, o.width = o.height = 128, o.path_frames = 40, o.frames = 3, o.ref_spp = 16;
+      // applied before the loop: other options override it wherever they stand
     } else if (a == "--scenes") o.scenes = split(value());
     else if (a == "--knobs") o.knobs = split(value());
     else if (a == "--cameras") o.cameras = split(value());
