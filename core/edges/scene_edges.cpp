@@ -228,6 +228,7 @@ SceneEdgeFinder::SceneEdgeFinder(const Scene& scene, const SceneEdgeSettings& se
     data.choice.brute_ns = double(m.face_count()) * c.ns_per_face + double(m.edge_count()) * c.ns_per_brute_edge +
                            silhouettes * c.ns_per_brute_silhouette;
     data.choice.tree = settings.force == 0 ? data.choice.tree_ns < data.choice.brute_ns : settings.force > 0;
+    if (!data.choice.tree && !settings.keep_unchosen_trees) data.tree = EdgeTree();  // frees it
   }
   lights_ = scene_lights(scene, &light_names_);
   build_ms_ = ms_since(start);

@@ -47,6 +47,9 @@ struct SceneEdgeSettings {
   EdgeTreeSettings tree;
   FinderCost cost;
   int force = 0;  // 0: choose by cost; 1: always the tree; -1: always brute force
+  // A mesh sent to brute force keeps no tree (the tree is built to estimate its cost, then freed:
+  // model only what the scene requires). true: keep every tree (`epi edges` times both finders).
+  bool keep_unchosen_trees = false;
 };
 
 struct FinderChoice {
@@ -63,6 +66,7 @@ class SceneEdgeFinder {
   const std::vector<std::string>& light_names() const { return light_names_; }
   const FinderChoice& choice(uint32_t mesh) const { return meshes_[mesh].choice; }
   const EdgeMesh& edge_mesh(uint32_t mesh) const { return meshes_[mesh].edges; }
+  // Empty (no nodes) for a mesh sent to brute force unless SceneEdgeSettings::keep_unchosen_trees.
   const EdgeTree& edge_tree(uint32_t mesh) const { return meshes_[mesh].tree; }
   double build_ms() const { return build_ms_; }
   size_t memory_bytes() const;
