@@ -3,6 +3,7 @@
 // are relative to the scene's own scale. The camera moves over the frames.
 #include <algorithm>
 #include <cmath>
+#include <ostream>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -16,6 +17,11 @@ struct Placement {
   glm::dvec3 offset{0.0};
   bool in_transforms = false;  // the offset in the objects' transforms, not in the vertices
 };
+
+void PrintTo(const Placement& t, std::ostream* os) {
+  *os << "scale " << t.scale << ", offset (" << t.offset.x << ", " << t.offset.y << ", " << t.offset.z << ")"
+      << (t.in_transforms ? " in the transforms" : "");
+}
 
 glm::vec3 place(glm::vec3 p, const Placement& t) { return glm::vec3(glm::dvec3(p) * t.scale + t.offset); }
 
