@@ -7,6 +7,7 @@ top, set-up time per step below. Run with Debian's python3 (python3-matplotlib):
 
     build/bin/render_scene_cost --out scene_cost.csv
     /usr/bin/python3 bench/render/plot_scene_cost.py scene_cost.csv docs/images/scene_cost.png
+    /usr/bin/python3 bench/render/plot_scene_cost.py --table scene_cost.csv   # the doc's table
 """
 import csv
 import sys
@@ -49,20 +50,23 @@ def main(csv_path, png_path):
             continue
         x = [float(r["x"]) for r in data]
         top, bottom = axes[0][column], axes[1][column]
+        # Log axes; a structure not built (0 bytes) has no point there, and says so in the legend.
         for key, name in MEMORY:
-            y = [float(r[key]) / 2**20 for r in data]
-            if any(v > 0 for v in y):
-                top.plot(x, y, marker="o", ms=3, label=name)
+            points = [(xi, float(r[key]) / 2**20) for xi, r in zip(x, data) if float(r[key]) > 0]
+            if len(points) == len(data):
+                top.plot(*zip(*points), marker="o", ms=3, label=name)
+            elif points:
+                top.plot(*zip(*points), marker="o", ms=3, label=f"{name} (from {points[0][0]:g} on)")
             else:
-                top.plot([], [], label=name + " (none built)")
+                top.plot([], [], marker="o", ms=3, label=name + " (none built)")
         for key, name in TIME:
-            y = [float(r[key]) for r in data]
-            if any(v > 0 for v in y):
-                bottom.plot(x, y, marker="o", ms=3, label=name)
+            points = [(xi, float(r[key])) for xi, r in zip(x, data) if float(r[key]) > 0]
+            if points:
+                bottom.plot(*zip(*points), marker="o", ms=3, label=name)
         for ax in (top, bottom):
             if log_x:
                 ax.set_xscale("log")
-            ax.set_yscale("symlog", linthresh=0.01)
+            ax.set_yscale("log")
             ax.grid(True, which="both", alpha=0.3)
             ax.set_xlabel(label)
         top.set_title(label.split(" (")[0])
@@ -76,7 +80,28 @@ def main(csv_path, png_path):
     fig.savefig(png_path, dpi=90)
 
 
+def table(csv_path):
+    """The markdown table of docs/tradeoff-memory.md: per row, memory by structure and set-up time."""
+    with open(csv_path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    print("| series | x | triangles | meshes | area lights | Embree | edge meshes | edge trees | receiver trees "
+          "| total MiB | bytes / triangle | set-up ms |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        if r["series"] == "warm-up":
+            continue
+        mem = [int(r[k]) for k, _ in MEMORY]
+        total = sum(mem)
+        ms = sum(float(r[k]) for k, _ in TIME)
+        cells = " | ".join(f"{m / 2**20:.3f}" if m else "-" for m in mem)
+        print(f"| {r['series']} | {float(r['x']):g} | {r['triangles']} | {cells} | {total / 2**20:.2f} "
+              f"| {total / max(1, int(r['triangles'])):.0f} | {ms:.1f} |")
+
+
 if __name__ == "__main__":
-    if len(sys.argv) != 3:
-        sys.exit("usage: plot_scene_cost.py SCENE_COST.csv OUT.png")
-    main(sys.argv[1], sys.argv[2])
+    if len(sys.argv) == 3 and sys.argv[1] == "--table":
+        table(sys.argv[2])
+    elif len(sys.argv) == 3:
+        main(sys.argv[1], sys.argv[2])
+    else:
+        sys.exit("usage: plot_scene_cost.py SCENE_COST.csv OUT.png | plot_scene_cost.py --table SCENE_COST.csv")
