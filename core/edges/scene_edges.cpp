@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -198,7 +199,9 @@ SceneEdgeFinder::SceneEdgeFinder(const Scene& scene, const SceneEdgeSettings& se
     MeshData& data = meshes_[i];
     data.edges = build_edge_mesh(scene.meshes[i]);
     tbb::parallel_invoke([&] { data.tree = EdgeTree(data.edges, settings.tree); },
-                         [&] { data.receivers = ReceiverTree(data.edges); });
+                         [&] {
+                           if (settings.receiver_trees) data.receivers = ReceiverTree(data.edges);
+                         });
 
     // The choice rule: estimated tree work over six viewpoints around the mesh against brute force.
     const EdgeMesh& m = data.edges;
@@ -318,6 +321,7 @@ std::vector<LightBlockerReceiver> SceneEdgeFinder::find_triples(const Scene& sce
 
 void SceneEdgeFinder::shadow_edges(const Scene& scene, std::span<const LightBlockerReceiver> triples,
                                    std::vector<SceneEdge>& out) {
+  if (!settings_.receiver_trees) throw std::logic_error("shadow edges from an edge finder built without receiver trees");
   light_names_.clear();  // called every frame: the names are rebuilt, not appended
   lights_ = scene_lights(scene, &light_names_);
   std::vector<LightBlockerReceiver> sorted(triples.begin(), triples.end());

@@ -167,8 +167,8 @@ TEST(ModelOnly, NoSubdivisionWithoutExtras) {
   EXPECT_EQ(scene.meshes[1].triangles.size(), 2u);
 }
 
-// The frame loop builds the edge finder only in epi mode with edges on, and the complex filter's
-// centre-line masks only when that filter is on.
+// The frame loop builds the edge finder only in epi mode with edges on, its receiver trees only with
+// shadow edges on, and the complex filter's centre-line masks only when that filter is on.
 TEST(ModelOnly, TheFrameLoopBuildsOnlyWhatItsSettingsUse) {
   const Scene scene = test::plane_and_box();
   RayScene rs(scene);
@@ -179,6 +179,22 @@ TEST(ModelOnly, TheFrameLoopBuildsOnlyWhatItsSettingsUse) {
     s.view_edges = s.shadow_edges = edges, s.complex_filter = complex;
     return std::make_unique<render::FrameRenderer>(scene, rs, shader, s);
   };
+  // Receiver trees only with shadow edges on (view edges alone need none).
+  auto make_edges = [&](bool shadow_edges) {
+    render::FrameSettings s;
+    s.width = 32, s.height = 32, s.sync = true, s.shadow_edges = shadow_edges;
+    return std::make_unique<render::FrameRenderer>(scene, rs, shader, s);
+  };
+  const auto view_only = make_edges(false), with_shadows = make_edges(true);
+  for (uint32_t mesh = 0; mesh < scene.meshes.size(); ++mesh) {
+    EXPECT_EQ(view_only->edge_finder()->receiver_tree(mesh).memory_bytes(), 0u);
+    EXPECT_GT(with_shadows->edge_finder()->receiver_tree(mesh).memory_bytes(), 0u);
+  }
+  EXPECT_LT(view_only->edge_finder()->memory_bytes(), with_shadows->edge_finder()->memory_bytes());
+  view_only->render(scene.cameras[0]);  // and it renders, with its view edges
+  EXPECT_GT(view_only->stats().edges.silhouette, 0);
+  EXPECT_EQ(view_only->stats().edges.shadow, 0);
+
   const auto epi = make(render::RenderMode::epi, true, true);
   EXPECT_NE(epi->edge_finder(), nullptr);  // the positive control
   EXPECT_TRUE(epi->masks().centre_lines);
