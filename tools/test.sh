@@ -46,9 +46,7 @@ for stage in $stages; do
       # Kernels.ExtremeSizes: UBSan finds undefined behaviour on empty (0xN) images in core/epi's
       # reconstruction and the simd test (null data() offsets, &v[0] of empty vectors, memcmp of
       # null): left to the module's owner, listed in docs/reliability.md. Remove the -E when fixed.
-      # -LE large: the 8192x8192 reconstruction (tests/extremes, ~2.4 GB; minutes under ASan) runs in
-      # the release stage only.
-      ctest --test-dir "$root/build-asan" --output-on-failure -j "$jobs" -E "Kernels\.ExtremeSizes" -LE large
+      ctest --test-dir "$root/build-asan" --output-on-failure -j "$jobs" -E "Kernels\.ExtremeSizes"
       ;;
     tsan)
       # Only what runs threads of epi's own against each other: the asynchronous shader service

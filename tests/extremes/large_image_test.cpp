@@ -1,6 +1,6 @@
 // An 8192x8192 edge-and-point image reconstructed (the 2D pipeline: rasterized edges, sparse
-// samples, every filter): ~2.6 GB and a few seconds in Release, so it is its own program, labelled
-// `large` (tools/test.sh leaves the label out of the sanitizer stage; docs/reliability.md).
+// samples, every filter): ~2.4 GB, ~5 s in Release and ~21 s under ASan+UBSan (both stages run it),
+// so it is its own program, labelled `large` (`ctest -LE large` skips it; docs/reliability.md).
 // The frame loop itself at this size needs ~10 GB (160 bytes a pixel) and is refused by the CLI's
 // memory estimate under the default limit; the smaller frame-loop sizes are in edges_on_pixels_test.
 #include <chrono>
