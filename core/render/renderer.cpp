@@ -71,7 +71,9 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
   for (const PunctualLight& l : ray_scene.punctual_lights()) light_positions_.push_back(l.position);
   placement_ = std::make_shared<const PlacementState>(PlacementState{transforms_, light_positions_});
   if (settings.mode == RenderMode::epi && (settings.view_edges || settings.shadow_edges)) {
-    finder_ = std::make_unique<edges::SceneEdgeFinder>(scene, settings.edge_finder);
+    edges::SceneEdgeSettings edge_settings = settings.edge_finder;
+    edge_settings.receiver_trees = settings.shadow_edges;  // model only what the settings use
+    finder_ = std::make_unique<edges::SceneEdgeFinder>(scene, edge_settings);
     edge_scene_.source = scene.source;
     edge_scene_.objects = scene.objects;
     edge_scene_.punctual_lights = scene.punctual_lights;
