@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include "epi/interpolate.h"
 #include "render/hole_fill.h"
@@ -29,28 +30,6 @@ View make_view(const Camera& camera, int width, int height) {
 
 bool same_camera(const Camera& a, const Camera& b) {
   return a.eye == b.eye && a.target == b.target && a.up == b.up && a.yfov_degrees == b.yfov_degrees;
-}
-
-// Pixels crossed by the edge pieces, sampled every 1/8 pixel along each: kDepthEdge where a
-// silhouette or border crosses, kSharpEdge where a sharp edge does, kShadowEdge where an umbral,
-// penumbral or shadow edge does.
-void mark_edge_pixels(std::span<const Segment> segments, std::span<const edges::EdgeKind> kinds, int w, int h,
-                      std::vector<uint8_t>& mask) {
-  mask.assign(size_t(w) * size_t(h), 0);
-  for (size_t k = 0; k < segments.size(); ++k) {
-    const edges::EdgeKind kind = kinds[k];
-    const uint8_t bit = kind == edges::EdgeKind::silhouette || kind == edges::EdgeKind::border ? kDepthEdge
-                        : kind == edges::EdgeKind::sharp                                       ? kSharpEdge
-                                                                                               : kShadowEdge;
-    const Segment& s = segments[k];
-    const int steps = 1 + int(8.0 * std::hypot(double(s.x1) - double(s.x0), double(s.y1) - double(s.y0)));
-    for (int j = 0; j <= steps; ++j) {
-      const double t = double(j) / steps;
-      const double x = s.x0 + t * (double(s.x1) - double(s.x0)), y = s.y0 + t * (double(s.y1) - double(s.y0));
-      if (!(x >= 0.0 && y >= 0.0 && x < double(w) && y < double(h))) continue;
-      mask[size_t(y) * size_t(w) + size_t(x)] |= bit;
-    }
-  }
 }
 
 }  // namespace
@@ -256,29 +235,31 @@ void FrameRenderer::find_and_rasterize_edges(const ViewFrame& frame) {
       if (settings_.soft_shadow_edges || t.first.light < punctual) triples.push_back(t.first);
     finder_->shadow_edges(edge_scene_, triples, edges_);
   }
-  stats_.ms.find_edges = ms_since(t);
+  stats_.ms[FrameStage::find_edges] = ms_since(t);
 
   // Projection, clipping, occlusion culling, rasterization.
   t = Clock::now();
   if (settings_.occlusion_culling) filter_depth(cache_.image(), settings_.depth_filter, filtered_depth_);
   else filtered_depth_.clear();
-  for (const edges::SceneEdge& e : edges_) {
-    const EdgeFate fate = project_edge(frame, e.a, e.b, filtered_depth_, segments_);
-    segment_kinds_.resize(segments_.size(), e.kind);
-    if (fate == EdgeFate::outside) continue;
-    if (fate == EdgeFate::culled) {
+  project_edges(frame, edges_, filtered_depth_, segments_, piece_edge_, edge_fates_, edge_scratch_);
+  segment_kinds_.resize(segments_.size());
+  for (size_t k = 0; k < segments_.size(); ++k) segment_kinds_[k] = edges_[piece_edge_[k]].kind;
+  for (size_t k = 0; k < edges_.size(); ++k) {
+    if (edge_fates_[k] == EdgeFate::outside) continue;
+    if (edge_fates_[k] == EdgeFate::culled) {
       ++stats_.edges.culled;
       continue;
     }
-    switch (e.kind) {
+    switch (edges_[k].kind) {
       case edges::EdgeKind::silhouette: ++stats_.edges.silhouette; break;
       case edges::EdgeKind::sharp: ++stats_.edges.sharp; break;
       case edges::EdgeKind::border: ++stats_.edges.border; break;
       default: ++stats_.edges.shadow; break;
     }
   }
-  rasterize_edges(masks_, segments_);
-  stats_.ms.rasterize_edges = ms_since(t);
+  // Bands of rows in parallel, bit for bit the serial rasterizer's masks (core/epi tests it).
+  rasterize_edges_parallel(masks_, segments_, 64, tbb::this_task_arena::max_concurrency());
+  stats_.ms[FrameStage::rasterize_edges] = ms_since(t);
 }
 
 const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm::mat4> object_to_world,
@@ -299,7 +280,7 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
     sampling_ms += ms_since(ts);
     const auto tsh = Clock::now();
     for (const NewShot& s : shots) shader_.shade(s.frame, s.requests, batch);
-    stats_.ms.shade = ms_since(tsh);
+    stats_.ms[FrameStage::shade] = ms_since(tsh);
   } else {
     async_->take_results(batch);
   }
@@ -308,13 +289,14 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   // the edge-aware occlusion test follows it (docs/render.md, "Hidden points").
   const bool edge_aware = settings_.mode == RenderMode::epi && settings_.occlusion_test && finder_ && settings_.view_edges;
   stats_.points = cache_.project(frame, transforms_, !edge_aware);
-  stats_.ms.points = ms_since(t) - sampling_ms - stats_.ms.shade;
+  stats_.ms[FrameStage::points] = ms_since(t) - sampling_ms - stats_.ms[FrameStage::shade];
 
   // Edges (epi mode), then the points they show hidden.
   if (settings_.mode == RenderMode::epi) {
     masks_.clear();
     segments_.clear();
     segment_kinds_.clear();
+    piece_edge_.clear();
     if (finder_) find_and_rasterize_edges(frame);
   }
   t = Clock::now();
@@ -330,7 +312,7 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
     cache_.set_refine_mask(edge_pixels_);
   }
   cache_.fill_epi(epi_);
-  stats_.ms.points += ms_since(t);
+  stats_.ms[FrameStage::points] += ms_since(t);
 
   // Reconstruction.
   ReconstructSettings rs;
@@ -345,24 +327,31 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
     reconstructor_.tiled(epi_, masks_, rs, Schedule{}, reconstruction_);
     rt[Stage::interpolate] = ms_since(tr);
   }
-  stats_.ms.classify = rt.reported(Stage::classify), stats_.ms.reachability = rt.reported(Stage::reachability);
-  stats_.ms.interpolate = rt.reported(Stage::interpolate), stats_.ms.antialias = rt.reported(Stage::antialias);
-  stats_.ms.complex = rt.reported(Stage::complex);
+  for (const StageInfo& i : kStages)
+    if (is_reported(i.stage)) stats_.ms[frame_stage(i.stage)] = rt.reported(i.stage);
   stats_.pixels = reconstruction_.counts;
 
   // Epi mode: pixels that reached no sample (black, top priority) filled from their own region.
   if (settings_.mode == RenderMode::epi && settings_.fill_holes) {
     const auto tf = Clock::now();
     const size_t n = reconstruction_.priority.size();
-    holes_.assign(n, 0);
-    barrier_.assign(n, 0);
+    holes_.resize(n), barrier_.resize(n);
     const float* rgb = reconstruction_.image.pixels.data();
-    for (size_t i = 0; i < n; ++i) {
-      holes_[i] = reconstruction_.priority[i] >= kMaxPriority && rgb[3 * i] == 0.0f && rgb[3 * i + 1] == 0.0f && rgb[3 * i + 2] == 0.0f;
-      barrier_[i] = (edge_pixels_[i] & (kDepthEdge | kSharpEdge)) != 0;
-    }
-    stats_.holes_filled = fill_holes(reconstruction_.image, holes_, barrier_);
-    stats_.ms.interpolate += ms_since(tf);
+    const size_t holes = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, n, 1 << 14), size_t(0),
+        [&](const tbb::blocked_range<size_t>& r, size_t count) {
+          for (size_t i = r.begin(); i != r.end(); ++i) {
+            const bool hole = reconstruction_.priority[i] >= kMaxPriority && rgb[3 * i] == 0.0f && rgb[3 * i + 1] == 0.0f &&
+                              rgb[3 * i + 2] == 0.0f;
+            holes_[i] = hole, count += hole;
+            barrier_[i] = (edge_pixels_[i] & (kDepthEdge | kSharpEdge)) != 0;
+          }
+          return count;
+        },
+        std::plus<size_t>());
+    // No hole (the usual frame): nothing to fill, the fill's whole-image passes are skipped.
+    stats_.holes_filled = holes ? fill_holes(reconstruction_.image, holes_, barrier_, hole_scratch_) : 0;
+    stats_.ms[FrameStage::interpolate] += ms_since(tf);
   }
 
   // Async: the next requests from this frame's priority; stale ones are dropped.
@@ -379,7 +368,7 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
     }
     sampling_ms += ms_since(ts);
   }
-  stats_.ms.sampling = sampling_ms;
+  stats_.ms[FrameStage::sampling] = sampling_ms;
   if (stats_.samples > 0) stats_.sparseness = double(settings_.width) * double(settings_.height) / double(stats_.samples);
   previous_camera_ = std::make_unique<Camera>(camera);
   ++frame_;

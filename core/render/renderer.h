@@ -17,6 +17,8 @@
 #include "edges/scene_edges.h"
 #include "epi/reconstruct.h"
 #include "render/edge_projection.h"
+#include "render/frame_stages.h"
+#include "render/hole_fill.h"
 #include "render/point_cache.h"
 #include "shade/async_shader.h"
 #include "shade/shader.h"
@@ -56,13 +58,6 @@ struct FrameSettings {
   DepthFilterSettings depth_filter;
   // Tests only: runs on the shading thread before each slice of async work (see AsyncShader).
   std::function<void()> before_shading_slice;
-};
-
-// Per-stage wall time of one frame, ms (the paper's table 2).
-struct StageTimes {
-  double find_edges = 0, rasterize_edges = 0, points = 0, classify = 0, reachability = 0, interpolate = 0,
-         antialias = 0, complex = 0, sampling = 0, total = 0;
-  double shade = 0;  // sync mode only: shading this frame's budget (inside total)
 };
 
 struct EdgeCounts {
@@ -162,9 +157,13 @@ class FrameRenderer {
   std::vector<edges::SceneEdge> edges_;
   std::vector<Segment> segments_;
   std::vector<edges::EdgeKind> segment_kinds_;
+  std::vector<uint32_t> piece_edge_;  // the edge of each piece in segments_
+  std::vector<EdgeFate> edge_fates_;
+  EdgeProjectionScratch edge_scratch_;
   std::vector<float> filtered_depth_;
   std::vector<uint8_t> edge_pixels_;  // pixels crossed by edges, by kind (point_cache.h)
   std::vector<uint8_t> holes_, barrier_;  // hole filling
+  HoleFillScratch hole_scratch_;
   FrameStats stats_;
   int frame_ = 0;
 };
