@@ -136,38 +136,50 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
   if (previous_camera_ && !same_camera(*previous_camera_, camera) && settings_.predict_share > 0.0f) {
     const Camera ahead = extrapolate_camera(*previous_camera_, camera, settings_.predict_frames);
     const ViewFrame predicted(make_view(ahead, w, h));
-    const std::vector<uint8_t> occupied = predicted_occupancy(cache_, predicted, transforms_, settings_.predict_stride,
-                                                              frame_ % std::max(1, settings_.predict_stride),
-                                                              settings_.predict_splat);
+    predicted_occupancy(cache_, predicted, transforms_, settings_.predict_stride, frame_ % std::max(1, settings_.predict_stride),
+                        settings_.predict_splat, occupied_);
     // Gaps about to open: predicted pixels without points whose ray, at the typical depth of the
     // current points, lies outside the current view (areas the current priority cannot see).
+    // The typical depth: the mean over fixed bands of rows, summed in band order (the same for
+    // any thread count; a serial sum in pixel order rounds differently in the last bits).
+    const std::vector<float>& depths = cache_.image().depth;
+    constexpr int kDepthRows = 32;
+    const int depth_bands = (h + kDepthRows - 1) / kDepthRows;
+    depth_sums_.resize(size_t(depth_bands));
+    tbb::parallel_for(0, depth_bands, [&](int b) {
+      double sum = 0.0;
+      size_t count = 0;
+      const float far = cache_.background_depth() * 0.5f;
+      for (size_t i = size_t(b) * kDepthRows * size_t(w), end = std::min(depths.size(), i + kDepthRows * size_t(w)); i < end; ++i)
+        if (std::isfinite(depths[i]) && depths[i] < far) sum += depths[i], ++count;
+      depth_sums_[size_t(b)] = {sum, count};
+    });
     double depth_sum = 0.0;
     size_t depth_count = 0;
-    for (float d : cache_.image().depth)
-      if (std::isfinite(d) && d < cache_.background_depth() * 0.5f) depth_sum += d, ++depth_count;
+    for (const auto& [sum, count] : depth_sums_) depth_sum += sum, depth_count += count;
     const float typical_depth = depth_count ? float(depth_sum / double(depth_count)) : 1.0f;
     // The test runs at the centres of 8x8 blocks (the unseen region's border is a smooth curve).
     constexpr int kBlock = 8;
     const int bw = (w + kBlock - 1) / kBlock, bh = (h + kBlock - 1) / kBlock;
-    std::vector<uint8_t> unseen(size_t(bw) * size_t(bh), 0);
+    unseen_.resize(size_t(bw) * size_t(bh));
     tbb::parallel_for(0, bh, [&](int by) {
       for (int bx = 0; bx < bw; ++bx) {
         const float cx = std::min(float(w), float(bx * kBlock) + 0.5f * kBlock);
         const float cy = std::min(float(h), float(by * kBlock) + 0.5f * kBlock);
         const Ray ray = predicted.ray(cx, cy);
         const Projection now = frame.project(ray.origin + ray.direction * typical_depth);
-        unseen[size_t(by) * size_t(bw) + size_t(bx)] = !now.in_front() || now.pixel.x < 0.0f || now.pixel.y < 0.0f ||
-                                                         now.pixel.x >= float(w) || now.pixel.y >= float(h);
+        unseen_[size_t(by) * size_t(bw) + size_t(bx)] = !now.in_front() || now.pixel.x < 0.0f || now.pixel.y < 0.0f ||
+                                                          now.pixel.x >= float(w) || now.pixel.y >= float(h);
       }
     });
-    std::vector<uint8_t> gaps(occupied.size(), 0);
+    std::vector<uint8_t>& gaps = occupied_;  // each pixel read, then overwritten by its gap flag
     const size_t gap_count = tbb::parallel_reduce(
         tbb::blocked_range<int>(0, h, 8), size_t(0),
         [&](const tbb::blocked_range<int>& rows, size_t count) {
           for (int y = rows.begin(); y != rows.end(); ++y)
             for (int x = 0; x < w; ++x) {
               const size_t i = size_t(y) * size_t(w) + size_t(x);
-              const bool gap = !occupied[i] && unseen[size_t(y / kBlock) * size_t(bw) + size_t(x / kBlock)];
+              const bool gap = !gaps[i] && unseen_[size_t(y / kBlock) * size_t(bw) + size_t(x / kBlock)];
               gaps[i] = gap, count += gap;
             }
           return count;
@@ -177,8 +189,8 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
     if (n > 0) {
       NewShot shot{predicted, {}};
       // Evenly spaced over the gaps in scan order (the gaps are uniform in priority).
-      std::vector<uint32_t> picked;
-      picked.reserve(n);
+      std::vector<uint32_t>& picked = picked_;
+      picked.clear();
       size_t seen = 0;
       for (size_t i = 0; i < gaps.size() && picked.size() < n; ++i)
         if (gaps[i] && (seen++ * n) % gap_count < n) picked.push_back(uint32_t(i));
