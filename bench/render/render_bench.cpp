@@ -5,6 +5,7 @@
 // args of BM_Frame: scene, width, height, mode; of BM_RaytraceFrame: scene, width, height, shader.
 // bench/frame_tables.py turns the JSON into docs/performance.md's table 2 and its bar chart.
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <memory>
 #include <string>
@@ -85,6 +86,41 @@ void BM_Frame(benchmark::State& state) {
   state.SetLabel(kScenes[state.range(0)]);
 }
 
+// The asynchronous loop and shader sharing the cores (FrameSettings::core_split; docs/render.md,
+// "Cores"): frames back to back along the path, as in the viewer without vsync. args: scene,
+// width, height, shader (0 direct, 1 gi), split (0 adaptive, 1 shared). Reported: the loop's
+// frame rate (manual time: the frame's wall time) and the shading throughput (results
+// integrated per second of wall time), after 30 warm-up frames.
+void BM_AsyncLoop(benchmark::State& state) {
+  Loaded& l = loaded(int(state.range(0)));
+  ShaderSettings shading;
+  shading.kind = state.range(3) == 1 ? ShaderKind::gi : ShaderKind::direct;
+  const Shader shader(l.ray_scene, shading);
+  FrameSettings s;
+  s.width = int(state.range(1)), s.height = int(state.range(2));
+  s.sample_budget = 0.01;
+  s.stage_timings = false;
+  s.core_split = state.range(4) == 0 ? CoreSplit::adaptive : CoreSplit::shared;
+  FrameRenderer renderer(l.scene, l.ray_scene, shader, s);
+  const CameraPath path = scene_camera_path(l.scene, kPathFrames);
+  int frame = 0;
+  for (int k = 0; k < 30; ++k) renderer.render(path.camera_at(frame++ % kPathFrames));
+  double samples = 0, loop_threads = 0, frames = 0;
+  const auto start = std::chrono::steady_clock::now();
+  for (auto _ : state) {
+    renderer.render(path.camera_at(frame++ % kPathFrames));
+    state.SetIterationTime(renderer.stats().ms.total * 1e-3);
+    samples += double(renderer.stats().samples), loop_threads += renderer.stats().loop_threads, ++frames;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  state.counters["fps"] = frames / seconds;
+  state.counters["samples_per_s"] = samples / seconds;
+  state.counters["samples_per_frame"] = samples / std::max(1.0, frames);
+  state.counters["loop_threads"] = loop_threads / std::max(1.0, frames);
+  state.SetLabel(std::string(kScenes[state.range(0)]) + (state.range(3) == 1 ? " gi" : " direct") +
+                 (state.range(4) == 0 ? " adaptive" : " shared"));
+}
+
 // A 1-sample-per-pixel frame: the speed-up's denominator. args: scene, width, height, shader
 // (0 direct, the frames' shader; 1 gi, the expensive shader the papers have in mind: an EPI
 // frame costs the same whatever the shader, since shading runs asynchronously beside it).
@@ -113,6 +149,13 @@ void raytrace_args(benchmark::internal::Benchmark* b) {
       for (int shader : {0, 1}) b->Args({scene, w, h, shader});
 }
 
+void async_args(benchmark::internal::Benchmark* b) {
+  for (int scene = 0; scene < 5; ++scene)
+    for (int shader : {0, 1})
+      for (int split : {0, 1}) b->Args({scene, 512, 512, shader, split});
+}
+
+BENCHMARK(BM_AsyncLoop)->Apply(async_args)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(3.0);
 BENCHMARK(BM_Frame)->Apply(frame_args)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(1.0);
 // A gi frame at 1080p takes seconds: its first iteration passes MinTime and is the figure.
 BENCHMARK(BM_RaytraceFrame)->Apply(raytrace_args)->Unit(benchmark::kMillisecond)->MinTime(1.0);

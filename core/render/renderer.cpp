@@ -56,8 +56,15 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
     edge_scene_.area_lights = scene.area_lights;
     for (const Object& o : scene.objects) load_transforms_.push_back(o.object_to_world);
   }
-  if (!settings.sync)
-    async_ = std::make_unique<AsyncShader>(shader, settings.shader_threads, 1024, settings.before_shading_slice);
+  if (!settings.sync) {
+    cores_ = std::max(1, tbb::this_task_arena::max_concurrency());
+    shader_threads_ = settings.shader_threads > 0                  ? settings.shader_threads
+                      : settings.core_split == CoreSplit::adaptive ? std::max(1, cores_ - 1)
+                                                                   : 0;  // 0: all cores
+    async_ = std::make_unique<AsyncShader>(shader, shader_threads_, 1024, settings.before_shading_slice);
+    if (settings.core_split == CoreSplit::adaptive)
+      loop_arena_ = std::make_unique<tbb::task_arena>(std::max(1, cores_ - std::max(1, shader_threads_)));
+  }
 }
 
 // The shader thread stops first: nothing it may still touch is torn down under it.
@@ -276,8 +283,22 @@ void FrameRenderer::find_and_rasterize_edges(const ViewFrame& frame) {
 
 const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm::mat4> object_to_world,
                                       std::span<const glm::vec3> light_positions) {
+  // Adaptive core split: while the shader is behind (the last frame's requests still pending),
+  // the loop keeps to its own cores and leaves the rest to shading; while it keeps up, the loop
+  // takes every core (the shader would idle on its share).
+  if (loop_arena_ && async_->pending_requests() > 0) {
+    const RgbImage* image = nullptr;
+    loop_arena_->execute([&] { image = &render_frame(camera, object_to_world, light_positions); });
+    return *image;
+  }
+  return render_frame(camera, object_to_world, light_positions);
+}
+
+const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<const glm::mat4> object_to_world,
+                                            std::span<const glm::vec3> light_positions) {
   const auto start = Clock::now();
   stats_ = {};
+  stats_.loop_threads = tbb::this_task_arena::max_concurrency();
   apply_placement(object_to_world, light_positions);
   const ViewFrame frame(make_view(camera, settings_.width, settings_.height));
 
@@ -333,10 +354,14 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   rs.complex_filter = settings_.complex_filter;
   ReconstructTimes rt;
   if (settings_.stage_timings) {
-    reconstructor_.staged(epi_, masks_, rs, reconstruction_, rt);
+    Schedule schedule;
+    schedule.threads = stats_.loop_threads;
+    reconstructor_.staged(epi_, masks_, rs, reconstruction_, rt, schedule);
   } else {
     const auto tr = Clock::now();
-    reconstructor_.tiled(epi_, masks_, rs, Schedule{}, reconstruction_);
+    Schedule schedule;
+    schedule.threads = stats_.loop_threads;  // the reconstructor's own arena, as wide as the loop's
+    reconstructor_.tiled(epi_, masks_, rs, schedule, reconstruction_);
     rt[Stage::interpolate] = ms_since(tr);
   }
   for (const StageInfo& i : kStages)

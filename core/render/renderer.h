@@ -14,6 +14,8 @@
 #include <span>
 #include <vector>
 
+#include <tbb/task_arena.h>
+
 #include "edges/scene_edges.h"
 #include "epi/reconstruct.h"
 #include "render/edge_projection.h"
@@ -26,6 +28,7 @@
 namespace epi::render {
 
 enum class RenderMode { epi, rendercache };
+enum class CoreSplit { adaptive, shared };
 
 struct FrameSettings {
   RenderMode mode = RenderMode::epi;
@@ -42,7 +45,12 @@ struct FrameSettings {
   float predict_frames = 4.0f;  // how far ahead the camera is extrapolated
   int predict_stride = 2;       // predictive projection uses 1/stride of the points ...
   int predict_splat = 3;        // ... as splat x splat squares
-  int shader_threads = 0;       // AsyncShader concurrency (0: all cores)
+  // How the asynchronous shader and the frame loop share the cores (docs/render.md, "Cores").
+  // adaptive: the shader gets shader_threads (0: all cores but one, at least one) and the loop
+  // one core while the shader is behind (requests of the last frame still pending when a frame
+  // starts), all cores while it keeps up; shared: both use all cores and the OS splits them.
+  CoreSplit core_split = CoreSplit::adaptive;
+  int shader_threads = 0;       // AsyncShader concurrency (0: as core_split says)
   // epi mode: which edges go into the EPI, and their occlusion culling.
   bool view_edges = true;       // silhouette, sharp, border
   bool shadow_edges = true;     // from the light-blocker-receiver triples the shader reports
@@ -73,6 +81,7 @@ struct FrameStats {
   size_t requested = 0;  // requests made this frame (incl. predicted)
   size_t predicted = 0;  // of which for predicted gaps
   size_t holes_filled = 0;  // pixels that reached no sample, filled by fill_holes
+  int loop_threads = 0;     // the frame loop's concurrency this frame (FrameSettings::core_split)
   // Pixels per new sample this frame; +infinity when no sample was integrated (not 0: 0 would
   // read as "densest possible").
   double sparseness = std::numeric_limits<double>::infinity();
@@ -127,6 +136,8 @@ class FrameRenderer {
     ViewFrame frame;
     std::vector<ShadeRequest> requests;
   };
+  const RgbImage& render_frame(const Camera& camera, std::span<const glm::mat4> object_to_world,
+                               std::span<const glm::vec3> light_positions);
   void apply_placement(std::span<const glm::mat4> object_to_world, std::span<const glm::vec3> light_positions);
   void find_and_rasterize_edges(const ViewFrame& frame);
   void integrate(const ShadeBatch& batch);
@@ -138,6 +149,8 @@ class FrameRenderer {
   const Shader& shader_;
   FrameSettings settings_;
   std::unique_ptr<AsyncShader> async_;
+  int cores_ = 1, shader_threads_ = 0;
+  std::unique_ptr<tbb::task_arena> loop_arena_;  // the loop's cores while the shader is behind (adaptive)
   PointCache cache_;
   EpiImage epi_;
   BoundaryMasks masks_;

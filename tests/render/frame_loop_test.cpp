@@ -434,6 +434,36 @@ void wait_for_shader(const FrameRenderer& renderer) {
   std::this_thread::sleep_for(std::chrono::milliseconds(2));  // the last slice's results are published after the count
 }
 
+// The adaptive core split (docs/render.md, "Cores"): while the shader is held with requests
+// pending, the loop runs on the cores the shader leaves it (all but the shader's, at least one);
+// once the shader has caught up, on all of them; with the shared split always on all of them.
+TEST(FrameLoop, AdaptiveSplitGivesTheLoopOneCoreWhileTheShaderIsBehind) {
+  const int cores = tbb::this_task_arena::max_concurrency();
+  for (const CoreSplit split : {CoreSplit::adaptive, CoreSplit::shared}) {
+    Fixture f;
+    std::promise<void> release;
+    std::shared_future<void> released = release.get_future().share();
+    FrameSettings s = small_settings(RenderMode::epi, false);
+    s.core_split = split;
+    s.before_shading_slice = [&] { released.wait(); };
+    FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+    const Camera camera = f.scene.cameras[0];
+    renderer.render(camera);  // nothing pending yet
+    const int first = renderer.stats().loop_threads;
+    renderer.render(camera);  // the first frame's requests are held
+    const int behind = renderer.stats().loop_threads;
+    const size_t pending = renderer.pending_requests();
+    release.set_value();
+    wait_for_shader(renderer);
+    renderer.render(camera);  // caught up
+    const int caught_up = renderer.stats().loop_threads;
+    EXPECT_GT(pending, 0u);
+    EXPECT_EQ(first, cores);
+    EXPECT_EQ(caught_up, cores);
+    EXPECT_EQ(behind, split == CoreSplit::adaptive ? 1 : cores) << "cores " << cores;  // the shader: cores - 1
+  }
+}
+
 // Async shading while the box moves every frame: results of every frame are integrated (not
 // dropped because something moved), each drawn point lies where ray casting the current placement
 // finds its surface, and no box point is drawn where the box no longer is.
