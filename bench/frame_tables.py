@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Turns render_bench JSON (Google Benchmark, --benchmark_format=json) into docs/performance.md's
 "paper's table 2" (per-stage ms of a frame for each scene, size and mode; frame rate; the speed-up
 over a 1-spp ray trace) and a per-stage stacked bar chart (PNG, matplotlib), so that no figure
@@ -6,7 +6,9 @@ there is typed by hand.
 
   build/bin/render_bench --benchmark_filter='BM_Frame/.*/[012]/|BM_RaytraceFrame' \\
       --benchmark_out=frame.json --benchmark_out_format=json
-  python3 bench/frame_tables.py frame.json [--chart docs/images/frame_stages.png]
+  /usr/bin/python3 bench/frame_tables.py frame.json [--chart docs/images/frame_stages.png]
+
+(/usr/bin/python3: Debian's, with python3-matplotlib; tools/setup.sh installs it.)
 
 The stage list is core/render/frame_stages.h's kFrameStages (read from the header: one list for
 the renderer, the CLI, the bench and this script). Each figure is the best of the repetitions.
@@ -67,19 +69,23 @@ def to_ms(run):
 def collect(runs):
     frames = defaultdict(list)  # (scene, w, h, mode) -> [run]
     raytrace = defaultdict(list)  # (scene, w, h, shader) -> [ms]
+    async_loop = defaultdict(list)  # (scene, w, h, shader, split) -> [run]
     for r in runs:
         bench, a = args(r["name"])
         if bench == "BM_Frame" and len(a) >= 4:
             frames[tuple(a[:4])].append(r)
         elif bench == "BM_RaytraceFrame" and len(a) >= 4:
             raytrace[tuple(a[:4])].append(to_ms(r))
+        elif bench == "BM_AsyncLoop" and len(a) >= 5:
+            async_loop[tuple(a[:5])].append(r)
     # The best repetition: the least disturbed on a shared machine.
     best_frame = {k: min(v, key=lambda r: r["loop_ms"]) for k, v in frames.items()}
     best_ray = {k: min(v) for k, v in raytrace.items()}
-    return best_frame, best_ray
+    best_async = {k: max(v, key=lambda r: r["fps"]) for k, v in async_loop.items()}
+    return best_frame, best_ray, best_async
 
 
-def tables(best_frame, best_ray, context):
+def tables(best_frame, best_ray, best_async, context):
     stages = frame_stages()
     out = []
     load_avg = context.get("load_avg", [])
@@ -113,6 +119,15 @@ def tables(best_frame, best_ray, context):
         for scene, w, h, shader, ray_ms, frame_ms in speed:
             out.append(f"| {SCENES[scene] if scene < len(SCENES) else scene} | {SIZE_NAMES.get((w, h), f'{w}x{h}')} | "
                        f"{'gi' if shader == 1 else 'direct'} | {fmt(ray_ms)} | {fmt(frame_ms)} | {ray_ms / frame_ms:.0f}x |")
+    if best_async:
+        out.append("\nThe asynchronous shader and the loop sharing the cores (`BM_AsyncLoop`: frames back to back along "
+                   "the path, budget 1 %; adaptive = FrameSettings::core_split's default, shared = both on all cores):\n")
+        out.append("| scene | size | shader | split | loop fps | shading results/s | results/frame | loop threads (mean) |")
+        out.append("|---|---|---|---|---|---|---|---|")
+        for (scene, w, h, shader, split), r in sorted(best_async.items()):
+            out.append(f"| {SCENES[scene] if scene < len(SCENES) else scene} | {SIZE_NAMES.get((w, h), f'{w}x{h}')} | "
+                       f"{'gi' if shader == 1 else 'direct'} | {'adaptive' if split == 0 else 'shared'} | {fmt(r['fps'])} | "
+                       f"{fmt(r['samples_per_s'], 0)} | {fmt(r['samples_per_frame'], 0)} | {fmt(r['loop_threads'], 2)} |")
     return "\n".join(out)
 
 
@@ -155,11 +170,11 @@ def main(argv):
     if not paths:
         sys.exit(__doc__)
     runs, context = load(paths)
-    best_frame, best_ray = collect(runs)
-    if not best_frame:
-        sys.exit("frame_tables.py: no BM_Frame runs in " + ", ".join(paths))
-    print(tables(best_frame, best_ray, context))
-    if chart_path:
+    best_frame, best_ray, best_async = collect(runs)
+    if not best_frame and not best_async:
+        sys.exit("frame_tables.py: no BM_Frame or BM_AsyncLoop runs in " + ", ".join(paths))
+    print(tables(best_frame, best_ray, best_async, context))
+    if chart_path and best_frame:
         chart(best_frame, chart_path)
 
 

@@ -283,10 +283,10 @@ void FrameRenderer::find_and_rasterize_edges(const ViewFrame& frame) {
 
 const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm::mat4> object_to_world,
                                       std::span<const glm::vec3> light_positions) {
-  // Adaptive core split: while the shader is behind (the last frame's requests still pending),
-  // the loop keeps to its own cores and leaves the rest to shading; while it keeps up, the loop
-  // takes every core (the shader would idle on its share).
-  if (loop_arena_ && async_->pending_requests() > 0) {
+  // Adaptive core split: while the shader is behind (the last frame's requests not all shaded
+  // when that frame chose the next ones), the loop keeps to its own cores and leaves the rest to
+  // shading; while it keeps up, the loop takes every core (the shader idles part of the frame).
+  if (loop_arena_ && shader_behind_) {
     const RgbImage* image = nullptr;
     loop_arena_->execute([&] { image = &render_frame(camera, object_to_world, light_positions); });
     return *image;
@@ -395,6 +395,7 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   if (async_) {
     const auto ts = Clock::now();
     std::vector<NewShot> shots = choose_requests(frame, reconstruction_.priority);
+    shader_behind_ = async_->pending_requests() > 0;  // before the last requests are dropped
     async_->cancel_pending();
     // Main and predicted requests interleaved in proportion, in rounds of a quarter slice.
     std::vector<size_t> sizes;

@@ -47,8 +47,8 @@ struct FrameSettings {
   int predict_splat = 3;        // ... as splat x splat squares
   // How the asynchronous shader and the frame loop share the cores (docs/render.md, "Cores").
   // adaptive: the shader gets shader_threads (0: all cores but one, at least one) and the loop
-  // one core while the shader is behind (requests of the last frame still pending when a frame
-  // starts), all cores while it keeps up; shared: both use all cores and the OS splits them.
+  // one core while the shader is behind (the last frame's requests not all shaded when that
+  // frame ended), all cores while it keeps up; shared: both use all cores, the OS splits them.
   CoreSplit core_split = CoreSplit::adaptive;
   int shader_threads = 0;       // AsyncShader concurrency (0: as core_split says)
   // epi mode: which edges go into the EPI, and their occlusion culling.
@@ -150,6 +150,7 @@ class FrameRenderer {
   FrameSettings settings_;
   std::unique_ptr<AsyncShader> async_;
   int cores_ = 1, shader_threads_ = 0;
+  bool shader_behind_ = false;  // the last frame's requests were not all shaded by its end
   std::unique_ptr<tbb::task_arena> loop_arena_;  // the loop's cores while the shader is behind (adaptive)
   PointCache cache_;
   EpiImage epi_;

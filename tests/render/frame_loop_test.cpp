@@ -448,14 +448,16 @@ TEST(FrameLoop, AdaptiveSplitGivesTheLoopOneCoreWhileTheShaderIsBehind) {
     s.before_shading_slice = [&] { released.wait(); };
     FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
     const Camera camera = f.scene.cameras[0];
-    renderer.render(camera);  // nothing pending yet
+    renderer.render(camera);  // nothing submitted before it
     const int first = renderer.stats().loop_threads;
-    renderer.render(camera);  // the first frame's requests are held
+    renderer.render(camera);  // the first frame's requests are held: still pending at its end
+    renderer.render(camera);
     const int behind = renderer.stats().loop_threads;
     const size_t pending = renderer.pending_requests();
     release.set_value();
     wait_for_shader(renderer);
-    renderer.render(camera);  // caught up
+    renderer.render(camera);  // all shaded by this frame's end
+    renderer.render(camera);
     const int caught_up = renderer.stats().loop_threads;
     EXPECT_GT(pending, 0u);
     EXPECT_EQ(first, cores);
