@@ -14,7 +14,6 @@ packages=(
   libtinygltf-dev nlohmann-json3-dev libhwy-dev libgtest-dev libbenchmark-dev libimgui-dev
   libcli11-dev xvfb libgl-dev libgl1-mesa-dri mesa-utils libcairo2-dev libgif-dev libpng-dev xdotool
   clang libclang-rt-14-dev  # the sanitizer and fuzz builds of tools/test.sh
-  python3-matplotlib  # bench/frame_tables.py's chart (run with /usr/bin/python3)
 )
 missing=()
 for p in "${packages[@]}"; do
