@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "epi/epi_pixel.h"
+#include "render/edge_crossings.h"
 #include "scene/scene.h"
 #include "shade/shader.h"
 #include "shade/view.h"
@@ -42,6 +43,10 @@ struct PointCacheSettings {
   // view_fade_start and view_fade_end lobe widths (a highlight seen from elsewhere is not shown).
   float view_priority = 16.0f;
   float view_fade_start = 1.0f, view_fade_end = 3.0f;
+  // A point past view_fade_end whose colour is mostly view-dependent (share above this: metals,
+  // mirrors) is not written into the EPI at all: its pixel is reconstructed from fresher
+  // neighbours instead of shown as a faded, too dark sample (it stays an occluder).
+  float view_drop_share = 0.5f;
   // Sampling priority (the age the EPI sees): the age times the relative standard error of the
   // point's mean luminance over single_sample_error, clamped to [1/4, 4]; a single result counts as
   // that error (factor 1), so refined, converged points ask later and noisy ones sooner.
@@ -86,6 +91,7 @@ struct ProjectionCounts {
   size_t culled = 0;     // z-buffer winners removed by the depth cull
   size_t occluded = 0;   // of the drawn, removed by the edge-aware occlusion test (epi mode)
   size_t expired = 0;    // points freed for exceeding the maximum age
+  size_t back_facing = 0;  // points in the image whose surface faces away from the eye (not drawn)
 };
 
 class PointCache {
@@ -116,13 +122,13 @@ class PointCache {
                 uint16_t epoch = 0);
 
   // Epi mode, after project(): removes from image() the drawn points that lie behind the tangent
-  // plane of a nearer drawn point close by, unless a geometric edge (silhouette, border, sharp:
-  // `edge_pixels` has kDepthEdge or kSharpEdge where such an edge crosses) separates the two. The
+  // plane of a nearer drawn point close by, unless a geometric edge (silhouette, border, sharp)
+  // passes between the two (`crossings`: this frame's edges, tested exactly, sub-pixel). The
   // EPI's edges say where depth may jump; elsewhere the visible surface is continuous, so a
   // far point next to a near one shows through a sparsely sampled nearer surface (the dots
   // of docs/render.md, "Hidden points"). Returns the number removed.
   size_t cull_behind_surfaces(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
-                              std::span<const uint8_t> edge_pixels);
+                              const EdgeCrossings& crossings);
   // Pixels (of the last projection) where results replace rather than refine: non-zero entries.
   // Empty: none.
   void set_refine_mask(std::span<const uint8_t> no_refine) { no_refine_.assign(no_refine.begin(), no_refine.end()); }
@@ -151,9 +157,11 @@ class PointCache {
   static float view_share(const CachePoint& p);
   bool refines(const CachePoint& cached, const CachePoint& result) const;
   int priority_age(const CachePoint& p) const;
-  uint32_t display_srgb(const CachePoint& p) const;  // srgb, less the view-dependent part as it goes stale
+  uint32_t display_srgb(const CachePoint& p) const;
+  bool shows_nothing(const CachePoint& p) const;  // stale and mostly view-dependent (view_drop_share)  // srgb, less the view-dependent part as it goes stale
   size_t take_slot();
-  bool drawn(size_t slot) const;  // the point is the one drawn at its pixel in the last projection
+  bool drawn(size_t slot) const;
+  bool back_facing(const CachePoint& p) const;  // uses eye_local_ of the current projection  // the point is the one drawn at its pixel in the last projection
   void choose_evict_age(size_t needed);
   int32_t find_hidden(const ViewFrame& shot, const ShadeResult& r, const glm::vec3& last_world,
                       std::span<const glm::mat4> object_to_world) const;
@@ -169,6 +177,9 @@ class PointCache {
   std::vector<uint64_t> zbuffer_;  // (depth bits << 32) | point index, min wins
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull
   std::vector<uint8_t> no_refine_;  // see set_refine_mask
+  std::vector<uint8_t> hidden_;             // cull_behind_surfaces' verdicts
+  std::vector<glm::mat3> normal_to_world_;  // ... and its normal matrices
+  std::vector<glm::vec3> eye_local_;        // the eye in each object's space (project)
   float background_depth_ = 1e6f;  // where background points are placed along their direction
   std::optional<ViewFrame> last_frame_;
   std::vector<glm::mat4> last_transforms_;  // the placement of the last projection
