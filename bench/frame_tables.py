@@ -41,11 +41,11 @@ def frame_stages():
 
 
 def load(paths):
-    runs, context = [], None
+    runs, context = [], []
     for path in paths:
         with open(path) as f:
             data = json.load(f)
-        context = context or data.get("context", {})
+        context.append(data.get("context", {}))
         runs += [b for b in data["benchmarks"] if b.get("run_type", "iteration") == "iteration" and not b.get("error_occurred")]
     return runs, context
 
@@ -88,9 +88,9 @@ def collect(runs):
 def tables(best_frame, best_ray, best_async, context):
     stages = frame_stages()
     out = []
-    load_avg = context.get("load_avg", [])
-    out.append(f"Run {context.get('date', '?')}, {context.get('num_cpus', '?')} CPUs, load average "
-               f"{', '.join(f'{x:.1f}' for x in load_avg) or '?'} (at the end of the run).\n")
+    for c in context:  # one line per input file
+        out.append(f"Run {c.get('date', '?')}, {c.get('num_cpus', '?')} CPUs, load average "
+                   f"{', '.join(f'{x:.1f}' for x in c.get('load_avg', [])) or '?'} (as the run started).\n")
     out.append("| scene | size | mode | " + " | ".join(label for _, label in stages) +
                " | frame ms | fps | ms per Mpixel | sparseness | simple % | complex % | edges | culled |")
     out.append("|---|---|---|" + "---|" * (len(stages) + 8))
