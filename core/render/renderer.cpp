@@ -180,27 +180,39 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
       }
     });
     std::vector<uint8_t>& gaps = occupied_;  // each pixel read, then overwritten by its gap flag
-    const size_t gap_count = tbb::parallel_reduce(
-        tbb::blocked_range<int>(0, h, 8), size_t(0),
-        [&](const tbb::blocked_range<int>& rows, size_t count) {
-          for (int y = rows.begin(); y != rows.end(); ++y)
-            for (int x = 0; x < w; ++x) {
-              const size_t i = size_t(y) * size_t(w) + size_t(x);
-              const bool gap = !gaps[i] && unseen_[size_t(y / kBlock) * size_t(bw) + size_t(x / kBlock)];
-              gaps[i] = gap, count += gap;
-            }
-          return count;
-        },
-        std::plus<size_t>());
+    gap_rows_.resize(size_t(h) + 1);  // gap_rows_[y]: gaps in the rows above y
+    gap_rows_[0] = 0;
+    tbb::parallel_for(0, h, [&](int y) {
+      size_t count = 0;
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * size_t(w) + size_t(x);
+        const bool gap = !gaps[i] && unseen_[size_t(y / kBlock) * size_t(bw) + size_t(x / kBlock)];
+        gaps[i] = gap, count += gap;
+      }
+      gap_rows_[size_t(y) + 1] = count;
+    });
+    for (int y = 0; y < h; ++y) gap_rows_[size_t(y) + 1] += gap_rows_[size_t(y)];
+    const size_t gap_count = gap_rows_[size_t(h)];
     const size_t n = std::min(gap_count, size_t(double(main_budget) * double(settings_.predict_share)));
     if (n > 0) {
       NewShot shot{predicted, {}};
-      // Evenly spaced over the gaps in scan order (the gaps are uniform in priority).
+      // Evenly spaced over the gaps in scan order (the gaps are uniform in priority): the gap of
+      // ordinal k is picked when (k n) mod G < n, i.e. k = ceil(j G / n) for j < n; so the picks
+      // before ordinal k number floor((k - 1) n / G) + 1 (none for k = 0), and each row writes
+      // its own picks in place, rows in parallel.
       std::vector<uint32_t>& picked = picked_;
-      picked.clear();
-      size_t seen = 0;
-      for (size_t i = 0; i < gaps.size() && picked.size() < n; ++i)
-        if (gaps[i] && (seen++ * n) % gap_count < n) picked.push_back(uint32_t(i));
+      picked.resize(n);
+      tbb::parallel_for(0, h, [&](int y) {
+        size_t k = gap_rows_[size_t(y)];
+        if (k == gap_rows_[size_t(y) + 1]) return;
+        size_t at = k == 0 ? 0 : (k - 1) * n / gap_count + 1;
+        for (int x = 0; x < w; ++x) {
+          const size_t i = size_t(y) * size_t(w) + size_t(x);
+          if (!gaps[i]) continue;
+          if ((k * n) % gap_count < n && at < n) picked[at++] = uint32_t(i);
+          ++k;
+        }
+      });
       make_requests(picked, w, settings_.seed, uint64_t(frame_) * 2 + 1, 0, shot.requests);
       main_budget -= picked.size();
       stats_.predicted = picked.size();

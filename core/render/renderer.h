@@ -180,10 +180,11 @@ class FrameRenderer {
   std::vector<uint8_t> holes_, barrier_;  // hole filling
   HoleFillScratch hole_scratch_;
   // Predictive sampling's per-frame scratch: predicted occupancy (then the gaps), depth sums per
-  // band of rows, unseen 8x8 blocks, the gap pixels picked.
+  // band of rows, unseen 8x8 blocks, the gap pixels picked, gaps per row.
   std::vector<uint8_t> occupied_, unseen_;
   std::vector<std::pair<double, size_t>> depth_sums_;
   std::vector<uint32_t> picked_;
+  std::vector<size_t> gap_rows_;  // gaps above each row (prefix sums)
   FrameStats stats_;
   int frame_ = 0;
 };
