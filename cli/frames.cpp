@@ -1,6 +1,7 @@
 // `epi render --mode epi|rendercache`: the frame loop (core/render) over a camera path, with
 // per-stage timings as in the paper's table 2, and optional frames and JSON stats.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cmath>
@@ -152,8 +153,8 @@ int run_render_frames(const RenderOptions& options) {
 
   // The loop.
   struct Series {
-    std::vector<double> find_edges, rasterize_edges, points, classify, reachability, interpolate, antialias, complex,
-        sampling, shade, total, empty, simple, complex_pixels, silhouette, sharp, border, shadow, culled, samples, requested,
+    std::array<std::vector<double>, render::kFrameStageCount> stages;  // per render::kFrameStages
+    std::vector<double> total, empty, simple, complex_pixels, silhouette, sharp, border, shadow, culled, samples, requested,
         predicted, points_culled, points_occluded, holes_filled;
   } series;
   stage = Clock::now();
@@ -171,11 +172,8 @@ int run_render_frames(const RenderOptions& options) {
       const std::vector<glm::vec3> lights = path.moves_lights() ? path.light_positions_at(scene, f) : std::vector<glm::vec3>{};
       image = &renderer->render(camera, transforms, lights);
       const render::FrameStats& s = renderer->stats();
-      series.find_edges.push_back(s.ms.find_edges), series.rasterize_edges.push_back(s.ms.rasterize_edges);
-      series.points.push_back(s.ms.points), series.classify.push_back(s.ms.classify);
-      series.reachability.push_back(s.ms.reachability), series.interpolate.push_back(s.ms.interpolate);
-      series.antialias.push_back(s.ms.antialias), series.complex.push_back(s.ms.complex);
-      series.sampling.push_back(s.ms.sampling), series.shade.push_back(s.ms.shade), series.total.push_back(s.ms.total);
+      for (size_t k = 0; k < s.ms.ms.size(); ++k) series.stages[k].push_back(s.ms.ms[k]);
+      series.total.push_back(s.ms.total);
       const double pixels = double(options.width) * double(options.height);
       series.empty.push_back(double(s.pixels.empty) / pixels), series.simple.push_back(double(s.pixels.simple) / pixels);
       series.complex_pixels.push_back(double(s.pixels.complex) / pixels);
@@ -245,13 +243,10 @@ int run_render_frames(const RenderOptions& options) {
               options.scene.c_str(), options.width, options.height, options.mode.c_str(), options.frames,
               options.sync ? "sync" : "async", options.sample_budget, options.shader.c_str(), threads,
               scene.triangle_count());
-  std::printf("  per frame (median, ms): edges %.1f + raster %.1f | points %.1f | classify %.1f | reach %.1f | "
-              "interp %.1f | aa %.1f | complex %.1f | sampling %.1f%s",
-              median(series.find_edges), median(series.rasterize_edges), median(series.points), median(series.classify),
-              median(series.reachability), median(series.interpolate), median(series.antialias), median(series.complex),
-              median(series.sampling), options.sync ? " | shade " : "");
-  if (options.sync) std::printf("%.1f", median(series.shade));
-  std::printf(" | total %.1f ms (%.1f fps)\n", frame_ms, frame_ms > 0.0 ? 1000.0 / frame_ms : 0.0);
+  std::printf("  per frame (median, ms):");
+  for (const render::FrameStageInfo& i : render::kFrameStages)
+    if (i.loop || options.sync) std::printf(" %s %.1f |", i.label, median(series.stages[size_t(i.stage)]));
+  std::printf(" total %.1f ms (%.1f fps)\n", frame_ms, frame_ms > 0.0 ? 1000.0 / frame_ms : 0.0);
   std::printf("  %.0f samples per frame (sparseness %s) | pixels %.1f%% empty, %.1f%% simple, %.1f%% complex\n",
               samples_per_frame, sparseness ? std::to_string(int64_t(std::lround(*sparseness))).c_str() : "-",
               100.0 * mean(series.empty), 100.0 * mean(series.simple), 100.0 * mean(series.complex_pixels));
@@ -268,6 +263,9 @@ int run_render_frames(const RenderOptions& options) {
     std::printf("  the 1-spp ray trace against it: %s\n", difference_line(*raytrace_difference).c_str());
 
   if (!options.stats.empty()) {
+    nlohmann::json stages_ms = nlohmann::json::object();
+    for (const render::FrameStageInfo& i : render::kFrameStages) stages_ms[i.name] = median(series.stages[size_t(i.stage)]);
+    stages_ms["total"] = frame_ms;
     nlohmann::json stats = {
         {"scene", options.scene},
         {"mode", options.mode},
@@ -283,18 +281,7 @@ int run_render_frames(const RenderOptions& options) {
         {"camera_path", !options.camera_path.empty()            ? options.camera_path
                         : options.camera.any() || scene.camera_path.empty() ? std::string("still")
                                                                                           : std::string("scene")},
-        {"stages_ms",
-         {{"find_edges", median(series.find_edges)},
-          {"rasterize_edges", median(series.rasterize_edges)},
-          {"points", median(series.points)},
-          {"classify", median(series.classify)},
-          {"reachability", median(series.reachability)},
-          {"interpolate", median(series.interpolate)},
-          {"antialias", median(series.antialias)},
-          {"complex", median(series.complex)},
-          {"sampling", median(series.sampling)},
-          {"shade_sync", median(series.shade)},
-          {"total", frame_ms}}},
+        {"stages_ms", stages_ms},
         {"fps", frame_ms > 0.0 ? 1000.0 / frame_ms : 0.0},
         {"pixels", {{"empty", mean(series.empty)}, {"simple", mean(series.simple)}, {"complex", mean(series.complex_pixels)}}},
         {"edges",

@@ -77,10 +77,13 @@ Summary summarize(std::vector<double> v) {
 const char* const kModeNames[] = {"epi", "rendercache", "raytrace", "reference"};
 const char* const kShaderNames[] = {"direct", "glossy", "gi"};
 const char* const kStageNames[] = {"final", "points (age)", "edges (kind)", "pixel classes", "reachability (hover)", "priority", "depth"};
-const char* const kStageTimeNames[] = {"edges", "raster", "points", "classify", "reach", "interp", "aa", "complex", "sampling"};
+// One colour per loop stage of render::kFrameStages (shading is not the loop's time).
 const ImU32 kStageTimeColors[] = {IM_COL32(255, 210, 40, 255), IM_COL32(255, 140, 0, 255), IM_COL32(80, 200, 80, 255),
                                   IM_COL32(60, 160, 255, 255), IM_COL32(160, 100, 255, 255), IM_COL32(255, 90, 170, 255),
                                   IM_COL32(200, 200, 200, 255), IM_COL32(255, 60, 60, 255), IM_COL32(120, 255, 230, 255)};
+constexpr int kStageTimeCount = int(std::size(kStageTimeColors));
+static_assert(kStageTimeCount == int(render::FrameStage::shade) && render::kFrameStages[kStageTimeCount - 1].loop &&
+              !render::kFrameStages[kStageTimeCount].loop, "a colour per loop stage (the loop stages come first)");
 
 const char* const kKeyHelp[][2] = {
     {"left drag", "orbit (on the selected object: move it)"},
@@ -787,19 +790,17 @@ void Viewer::draw_overlay() {
   const float ms_to_px = size.y / float(top);
   for (const StatPoint& p : history_) {
     const float x = origin.x + size.x * float(1.0 - ms_between(p.time, now) / 5000.0);
-    const double parts[] = {p.ms.find_edges, p.ms.rasterize_edges, p.ms.points, p.ms.classify, p.ms.reachability,
-                            p.ms.interpolate, p.ms.antialias, p.ms.complex, p.ms.sampling};
     float y = origin.y + size.y;
-    for (int k = 0; k < 9; ++k) {
-      const float h = float(parts[k]) * ms_to_px;
+    for (int k = 0; k < kStageTimeCount; ++k) {
+      const float h = float(p.ms.ms[size_t(k)]) * ms_to_px;
       if (h > 0.0f) draw->AddLine(ImVec2(x, y), ImVec2(x, y - h), kStageTimeColors[k], 2.0f);
       y -= h;
     }
   }
   ImGui::Text("stage times, last 5 s (top %.1f ms):", top);
-  for (int k = 0; k < 9; ++k) {
+  for (int k = 0; k < kStageTimeCount; ++k) {
     if (k % 5) ImGui::SameLine();
-    ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(kStageTimeColors[k]), "%s", kStageTimeNames[k]);
+    ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(kStageTimeColors[k]), "%s", render::kFrameStages[size_t(k)].label);
   }
   ImGui::End();
 }

@@ -265,7 +265,7 @@ class Study {
         const RgbImage& image = renderer.render(views.cameras[f]);
         const double cpu = cpu_ms() - c0;
         const StageTimes& ms = renderer.stats().ms;
-        record(int(f), ms.total, ms.total - ms.shade, cpu, &image);
+        record(int(f), ms.total, ms.loop_ms(), cpu, &image);
       }
     }
 

@@ -1,6 +1,7 @@
 #include "render/edge_projection.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -12,41 +13,45 @@ namespace epi::render {
 void filter_depth(const PointImage& points, const DepthFilterSettings& settings, std::vector<float>& out) {
   const int w = points.width, h = points.height;
   const float inf = std::numeric_limits<float>::infinity();
-  // Rows first: max depth and point count over x-1..x+2; then columns over y-1..y+2.
-  std::vector<float> row_max(size_t(w) * size_t(h));
-  std::vector<uint8_t> row_count(size_t(w) * size_t(h));
-  auto rows = [h](auto&& body) {
-    tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& r) {
-      for (int y = r.begin(); y != r.end(); ++y) body(y);
-    });
-  };
-  rows([&](int y) {
-    for (int x = 0; x < w; ++x) {
-      float m = -inf;
-      int n = 0;
-      for (int dx = -1; dx <= 2; ++dx) {
-        const int qx = x + dx;
-        if (qx < 0 || qx >= w) continue;
-        const size_t q = points.index(qx, y);
-        if (points.point[q] < 0) continue;
-        m = std::max(m, points.depth[q]), ++n;
+  out.resize(size_t(w) * size_t(h));
+  // Bands of rows: the max depth and point count over x-1..x+2 of the rows y0-1..y1+1, kept in
+  // the band's own rows (ring of 4), then columns over y-1..y+2. Same arithmetic as row-then-column
+  // over the whole image: max and integer counts do not depend on the grouping.
+  constexpr int kBand = 16;
+  tbb::parallel_for(tbb::blocked_range<int>(0, (h + kBand - 1) / kBand, 1), [&](const tbb::blocked_range<int>& r) {
+    thread_local std::vector<float> ring_max;
+    thread_local std::vector<uint8_t> ring_count;
+    ring_max.resize(4 * size_t(w)), ring_count.resize(4 * size_t(w));
+    auto row_of = [&](int y) {  // fills the ring's slot of row y (y in [0, h))
+      float* m_row = ring_max.data() + size_t(y & 3) * size_t(w);
+      uint8_t* n_row = ring_count.data() + size_t(y & 3) * size_t(w);
+      for (int x = 0; x < w; ++x) {
+        float m = -inf;
+        int n = 0;
+        for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 2); ++qx) {
+          const size_t q = points.index(qx, y);
+          if (points.point[q] < 0) continue;
+          m = std::max(m, points.depth[q]), ++n;
+        }
+        m_row[x] = m, n_row[x] = uint8_t(n);
       }
-      row_max[points.index(x, y)] = m, row_count[points.index(x, y)] = uint8_t(n);
-    }
-  });
-  out.assign(size_t(w) * size_t(h), inf);
-  rows([&](int y) {
-    for (int x = 0; x < w; ++x) {
-      float m = -inf;
-      int n = 0;
-      for (int dy = -1; dy <= 2; ++dy) {
-        const int qy = y + dy;
-        if (qy < 0 || qy >= h) continue;
-        m = std::max(m, row_max[points.index(x, qy)]), n += row_count[points.index(x, qy)];
+    };
+    for (int band = r.begin(); band != r.end(); ++band) {
+      const int y0 = band * kBand, y1 = std::min(h, y0 + kBand);
+      for (int y = std::max(0, y0 - 1); y < std::min(h, y0 + 2); ++y) row_of(y);
+      for (int y = y0; y < y1; ++y) {
+        if (y + 2 < h) row_of(y + 2);  // rows y-1..y+2 are in the ring
+        float* o = out.data() + size_t(y) * size_t(w);
+        for (int x = 0; x < w; ++x) {
+          float m = -inf;
+          int n = 0;
+          for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 2); ++qy) {
+            const size_t q = size_t(qy & 3) * size_t(w) + size_t(x);
+            m = std::max(m, ring_max[q]), n += ring_count[q];
+          }
+          o[x] = n == 0 ? inf : m * (1.0f + settings.base_offset + settings.sparse_offset * (float(16 - n) / 16.0f));
+        }
       }
-      if (n == 0) continue;
-      const float empty = float(16 - n) / 16.0f;
-      out[points.index(x, y)] = m * (1.0f + settings.base_offset + settings.sparse_offset * empty);
     }
   });
 }
@@ -121,6 +126,56 @@ EdgeFate project_edge(const ViewFrame& frame, const glm::dvec3& a, const glm::dv
     previous = next;
   }
   return any ? EdgeFate::visible : EdgeFate::culled;
+}
+
+void mark_edge_pixels(std::span<const Segment> segments, std::span<const edges::EdgeKind> kinds, int w, int h,
+                      std::vector<uint8_t>& mask) {
+  mask.resize(size_t(w) * size_t(h));
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, mask.size(), 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
+    std::fill(mask.begin() + ptrdiff_t(r.begin()), mask.begin() + ptrdiff_t(r.end()), uint8_t(0));
+  });
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, segments.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) {
+      const edges::EdgeKind kind = kinds[k];
+      const uint8_t bit = kind == edges::EdgeKind::silhouette || kind == edges::EdgeKind::border ? kDepthEdge
+                          : kind == edges::EdgeKind::sharp                                       ? kSharpEdge
+                                                                                                 : kShadowEdge;
+      const Segment& s = segments[k];
+      const int steps = 1 + int(8.0 * std::hypot(double(s.x1) - double(s.x0), double(s.y1) - double(s.y0)));
+      for (int j = 0; j <= steps; ++j) {
+        const double t = double(j) / steps;
+        const double x = s.x0 + t * (double(s.x1) - double(s.x0)), y = s.y0 + t * (double(s.y1) - double(s.y0));
+        if (!(x >= 0.0 && y >= 0.0 && x < double(w) && y < double(h))) continue;
+        std::atomic_ref<uint8_t> m(mask[size_t(y) * size_t(w) + size_t(x)]);
+        if ((m.load(std::memory_order_relaxed) & bit) == 0) m.fetch_or(bit, std::memory_order_relaxed);
+      }
+    }
+  });
+}
+
+
+void project_edges(const ViewFrame& frame, std::span<const edges::SceneEdge> edges, std::span<const float> filtered_depth,
+                   std::vector<Segment>& out, std::vector<uint32_t>& piece_edge, std::vector<EdgeFate>& fates,
+                   EdgeProjectionScratch& scratch) {
+  // Fixed chunks (not the scheduler's split), each appending to its own buffers; concatenated in
+  // chunk order, so the pieces come out in edge order whatever thread ran which chunk.
+  constexpr size_t kChunk = 64;
+  const size_t chunks = (edges.size() + kChunk - 1) / kChunk;
+  if (scratch.pieces.size() < chunks) scratch.pieces.resize(chunks), scratch.piece_edge.resize(chunks);
+  fates.resize(edges.size());
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    std::vector<Segment>& pieces = scratch.pieces[c];
+    std::vector<uint32_t>& owner = scratch.piece_edge[c];
+    pieces.clear(), owner.clear();
+    for (size_t k = c * kChunk; k < std::min(edges.size(), (c + 1) * kChunk); ++k) {
+      fates[k] = project_edge(frame, edges[k].a, edges[k].b, filtered_depth, pieces);
+      owner.resize(pieces.size(), uint32_t(k));
+    }
+  });
+  for (size_t c = 0; c < chunks; ++c) {
+    out.insert(out.end(), scratch.pieces[c].begin(), scratch.pieces[c].end());
+    piece_edge.insert(piece_edge.end(), scratch.piece_edge[c].begin(), scratch.piece_edge[c].end());
+  }
 }
 
 }  // namespace epi::render

@@ -10,6 +10,7 @@
 
 #include <glm/glm.hpp>
 
+#include "edges/scene_edges.h"
 #include "epi/rasterize.h"
 #include "render/point_cache.h"
 #include "shade/view.h"
@@ -23,6 +24,7 @@ struct DepthFilterSettings {
 
 // Per pixel: the largest point depth in the 4x4 window [x-1, x+2] x [y-1, y+2] times
 // (1 + base + sparse * empty fraction of the window); +inf where the window holds no point.
+// Bands of rows in parallel, each with its own rows' maxima (no whole-image scratch).
 void filter_depth(const PointImage& points, const DepthFilterSettings& settings, std::vector<float>& out);
 
 enum class EdgeFate { outside, culled, visible };
@@ -32,5 +34,25 @@ enum class EdgeFate { outside, culled, visible };
 // no culling), sampled at most a pixel apart. Appends the visible pieces.
 EdgeFate project_edge(const ViewFrame& frame, const glm::dvec3& a, const glm::dvec3& b,
                       std::span<const float> filtered_depth, std::vector<Segment>& out);
+
+// project_edge over many edges in parallel chunks of edges,
+// the pieces concatenated in edge order: `out` (appended to) and `piece_edge` (the edge of each
+// piece) are bit for bit those of calling project_edge on each edge in turn, whatever the
+// thread count; fates[k] is edge k's fate. The chunks' buffers are kept in `scratch`.
+struct EdgeProjectionScratch {
+  std::vector<std::vector<Segment>> pieces;
+  std::vector<std::vector<uint32_t>> piece_edge;
+};
+void project_edges(const ViewFrame& frame, std::span<const edges::SceneEdge> edges, std::span<const float> filtered_depth,
+                   std::vector<Segment>& out, std::vector<uint32_t>& piece_edge, std::vector<EdgeFate>& fates,
+                   EdgeProjectionScratch& scratch);
+
+// Pixels crossed by the edge pieces, sampled every 1/8 pixel along each: kDepthEdge where a
+// silhouette or border crosses, kSharpEdge where a sharp edge does, kShadowEdge where an umbral,
+// penumbral or shadow edge does (point_cache.h). Pieces in parallel, bits ORed in atomically:
+// the same mask as piece after piece (OR does not depend on the order). `mask` is resized to
+// width x height and keeps its storage.
+void mark_edge_pixels(std::span<const Segment> segments, std::span<const edges::EdgeKind> kinds, int width, int height,
+                      std::vector<uint8_t>& mask);
 
 }  // namespace epi::render

@@ -6,12 +6,19 @@
 namespace epi::render {
 
 size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<const uint8_t> barrier) {
+  HoleFillScratch scratch;
+  return fill_holes(image, holes, barrier, scratch);
+}
+
+size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<const uint8_t> barrier,
+                  HoleFillScratch& scratch) {
   const int w = image.width, h = image.height;
   const size_t n = size_t(w) * size_t(h);
   if (holes.size() != n || barrier.size() != n) throw std::invalid_argument("fill_holes: mask size differs from the image");
   // state: 0 filled (a source), 1 hole, 2 hole on a barrier (filled last).
-  std::vector<uint8_t> state(n);
-  std::vector<uint32_t> front;
+  std::vector<uint8_t>& state = scratch.state;
+  std::vector<uint32_t> &front = scratch.front, &next = scratch.next, &ring = scratch.ring, &last = scratch.last;
+  state.resize(n), front.clear(), last.clear();
   for (size_t i = 0; i < n; ++i) state[i] = holes[i] ? (barrier[i] ? 2 : 1) : 0;
   auto fill_from_neighbours = [&](int x, int y, bool through_barriers) {
     float sum[3] = {0, 0, 0};
@@ -41,10 +48,9 @@ size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<con
     for (int x = 0; x < w; ++x)
       if (state[size_t(y) * size_t(w) + size_t(x)] == 1 && has_source_neighbour(x, y)) front.push_back(uint32_t(y * w + x));
   size_t filled = 0;
-  std::vector<uint32_t> next;
   while (!front.empty()) {
     // Each ring is coloured from the rings before it only, then becomes a source.
-    std::vector<uint32_t> ring;
+    ring.clear();
     for (const uint32_t i : front)
       if (state[i] == 1 && fill_from_neighbours(int(i % uint32_t(w)), int(i / uint32_t(w)), false)) ring.push_back(i);
     for (const uint32_t i : ring) state[i] = 0;
@@ -62,7 +68,6 @@ size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<con
     front.swap(next);
   }
   // Holes on barriers: from any filled neighbour.
-  std::vector<uint32_t> last;
   for (size_t i = 0; i < n; ++i)
     if (state[i] == 2 && fill_from_neighbours(int(i % size_t(w)), int(i / size_t(w)), true)) last.push_back(uint32_t(i));
   for (const uint32_t i : last) state[i] = 0;

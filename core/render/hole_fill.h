@@ -16,6 +16,13 @@ namespace epi::render {
 // `barrier` (non-zero; geometric edges) neither pass colour on nor take it until every other hole
 // is filled; they then take the mean of their filled neighbours. Holes no filled pixel reaches
 // stay as they are. Returns the number of pixels filled.
+// `scratch` keeps the fill's working storage between calls (the renderer's, per frame).
+struct HoleFillScratch {
+  std::vector<uint8_t> state;
+  std::vector<uint32_t> front, next, ring, last;
+};
+size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<const uint8_t> barrier,
+                  HoleFillScratch& scratch);
 size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<const uint8_t> barrier);
 
 }  // namespace epi::render

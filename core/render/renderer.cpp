@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
 
 #include "epi/interpolate.h"
 #include "render/hole_fill.h"
@@ -29,28 +30,6 @@ View make_view(const Camera& camera, int width, int height) {
 
 bool same_camera(const Camera& a, const Camera& b) {
   return a.eye == b.eye && a.target == b.target && a.up == b.up && a.yfov_degrees == b.yfov_degrees;
-}
-
-// Pixels crossed by the edge pieces, sampled every 1/8 pixel along each: kDepthEdge where a
-// silhouette or border crosses, kSharpEdge where a sharp edge does, kShadowEdge where an umbral,
-// penumbral or shadow edge does.
-void mark_edge_pixels(std::span<const Segment> segments, std::span<const edges::EdgeKind> kinds, int w, int h,
-                      std::vector<uint8_t>& mask) {
-  mask.assign(size_t(w) * size_t(h), 0);
-  for (size_t k = 0; k < segments.size(); ++k) {
-    const edges::EdgeKind kind = kinds[k];
-    const uint8_t bit = kind == edges::EdgeKind::silhouette || kind == edges::EdgeKind::border ? kDepthEdge
-                        : kind == edges::EdgeKind::sharp                                       ? kSharpEdge
-                                                                                               : kShadowEdge;
-    const Segment& s = segments[k];
-    const int steps = 1 + int(8.0 * std::hypot(double(s.x1) - double(s.x0), double(s.y1) - double(s.y0)));
-    for (int j = 0; j <= steps; ++j) {
-      const double t = double(j) / steps;
-      const double x = s.x0 + t * (double(s.x1) - double(s.x0)), y = s.y0 + t * (double(s.y1) - double(s.y0));
-      if (!(x >= 0.0 && y >= 0.0 && x < double(w) && y < double(h))) continue;
-      mask[size_t(y) * size_t(w) + size_t(x)] |= bit;
-    }
-  }
 }
 
 }  // namespace
@@ -80,8 +59,15 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
     edge_scene_.area_lights = scene.area_lights;
     for (const Object& o : scene.objects) load_transforms_.push_back(o.object_to_world);
   }
-  if (!settings.sync)
-    async_ = std::make_unique<AsyncShader>(shader, settings.shader_threads, 1024, settings.before_shading_slice);
+  if (!settings.sync) {
+    cores_ = std::max(1, tbb::this_task_arena::max_concurrency());
+    shader_threads_ = settings.shader_threads > 0                  ? settings.shader_threads
+                      : settings.core_split == CoreSplit::adaptive ? std::max(1, cores_ - 1)
+                                                                   : 0;  // 0: all cores
+    async_ = std::make_unique<AsyncShader>(shader, shader_threads_, 1024, settings.before_shading_slice);
+    if (settings.core_split == CoreSplit::adaptive)
+      loop_arena_ = std::make_unique<tbb::task_arena>(std::max(1, cores_ - std::max(1, shader_threads_)));
+  }
 }
 
 // The shader thread stops first: nothing it may still touch is torn down under it.
@@ -160,52 +146,76 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
   if (previous_camera_ && !same_camera(*previous_camera_, camera) && settings_.predict_share > 0.0f) {
     const Camera ahead = extrapolate_camera(*previous_camera_, camera, settings_.predict_frames);
     const ViewFrame predicted(make_view(ahead, w, h));
-    const std::vector<uint8_t> occupied = predicted_occupancy(cache_, predicted, transforms_, settings_.predict_stride,
-                                                              frame_ % std::max(1, settings_.predict_stride),
-                                                              settings_.predict_splat);
+    predicted_occupancy(cache_, predicted, transforms_, settings_.predict_stride, frame_ % std::max(1, settings_.predict_stride),
+                        settings_.predict_splat, occupied_);
     // Gaps about to open: predicted pixels without points whose ray, at the typical depth of the
     // current points, lies outside the current view (areas the current priority cannot see).
+    // The typical depth: the mean over fixed bands of rows, summed in band order (the same for
+    // any thread count; a serial sum in pixel order rounds differently in the last bits).
+    const std::vector<float>& depths = cache_.image().depth;
+    constexpr int kDepthRows = 32;
+    const int depth_bands = (h + kDepthRows - 1) / kDepthRows;
+    depth_sums_.resize(size_t(depth_bands));
+    tbb::parallel_for(0, depth_bands, [&](int b) {
+      double sum = 0.0;
+      size_t count = 0;
+      const float far = cache_.background_depth() * 0.5f;
+      for (size_t i = size_t(b) * kDepthRows * size_t(w), end = std::min(depths.size(), i + kDepthRows * size_t(w)); i < end; ++i)
+        if (std::isfinite(depths[i]) && depths[i] < far) sum += depths[i], ++count;
+      depth_sums_[size_t(b)] = {sum, count};
+    });
     double depth_sum = 0.0;
     size_t depth_count = 0;
-    for (float d : cache_.image().depth)
-      if (std::isfinite(d) && d < cache_.background_depth() * 0.5f) depth_sum += d, ++depth_count;
+    for (const auto& [sum, count] : depth_sums_) depth_sum += sum, depth_count += count;
     const float typical_depth = depth_count ? float(depth_sum / double(depth_count)) : 1.0f;
     // The test runs at the centres of 8x8 blocks (the unseen region's border is a smooth curve).
     constexpr int kBlock = 8;
     const int bw = (w + kBlock - 1) / kBlock, bh = (h + kBlock - 1) / kBlock;
-    std::vector<uint8_t> unseen(size_t(bw) * size_t(bh), 0);
+    unseen_.resize(size_t(bw) * size_t(bh));
     tbb::parallel_for(0, bh, [&](int by) {
       for (int bx = 0; bx < bw; ++bx) {
         const float cx = std::min(float(w), float(bx * kBlock) + 0.5f * kBlock);
         const float cy = std::min(float(h), float(by * kBlock) + 0.5f * kBlock);
         const Ray ray = predicted.ray(cx, cy);
         const Projection now = frame.project(ray.origin + ray.direction * typical_depth);
-        unseen[size_t(by) * size_t(bw) + size_t(bx)] = !now.in_front() || now.pixel.x < 0.0f || now.pixel.y < 0.0f ||
-                                                         now.pixel.x >= float(w) || now.pixel.y >= float(h);
+        unseen_[size_t(by) * size_t(bw) + size_t(bx)] = !now.in_front() || now.pixel.x < 0.0f || now.pixel.y < 0.0f ||
+                                                          now.pixel.x >= float(w) || now.pixel.y >= float(h);
       }
     });
-    std::vector<uint8_t> gaps(occupied.size(), 0);
-    const size_t gap_count = tbb::parallel_reduce(
-        tbb::blocked_range<int>(0, h, 8), size_t(0),
-        [&](const tbb::blocked_range<int>& rows, size_t count) {
-          for (int y = rows.begin(); y != rows.end(); ++y)
-            for (int x = 0; x < w; ++x) {
-              const size_t i = size_t(y) * size_t(w) + size_t(x);
-              const bool gap = !occupied[i] && unseen[size_t(y / kBlock) * size_t(bw) + size_t(x / kBlock)];
-              gaps[i] = gap, count += gap;
-            }
-          return count;
-        },
-        std::plus<size_t>());
+    std::vector<uint8_t>& gaps = occupied_;  // each pixel read, then overwritten by its gap flag
+    gap_rows_.resize(size_t(h) + 1);  // gap_rows_[y]: gaps in the rows above y
+    gap_rows_[0] = 0;
+    tbb::parallel_for(0, h, [&](int y) {
+      size_t count = 0;
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * size_t(w) + size_t(x);
+        const bool gap = !gaps[i] && unseen_[size_t(y / kBlock) * size_t(bw) + size_t(x / kBlock)];
+        gaps[i] = gap, count += gap;
+      }
+      gap_rows_[size_t(y) + 1] = count;
+    });
+    for (int y = 0; y < h; ++y) gap_rows_[size_t(y) + 1] += gap_rows_[size_t(y)];
+    const size_t gap_count = gap_rows_[size_t(h)];
     const size_t n = std::min(gap_count, size_t(double(main_budget) * double(settings_.predict_share)));
     if (n > 0) {
       NewShot shot{predicted, {}};
-      // Evenly spaced over the gaps in scan order (the gaps are uniform in priority).
-      std::vector<uint32_t> picked;
-      picked.reserve(n);
-      size_t seen = 0;
-      for (size_t i = 0; i < gaps.size() && picked.size() < n; ++i)
-        if (gaps[i] && (seen++ * n) % gap_count < n) picked.push_back(uint32_t(i));
+      // Evenly spaced over the gaps in scan order (the gaps are uniform in priority): the gap of
+      // ordinal k is picked when (k n) mod G < n, i.e. k = ceil(j G / n) for j < n; so the picks
+      // before ordinal k number floor((k - 1) n / G) + 1 (none for k = 0), and each row writes
+      // its own picks in place, rows in parallel.
+      std::vector<uint32_t>& picked = picked_;
+      picked.resize(n);
+      tbb::parallel_for(0, h, [&](int y) {
+        size_t k = gap_rows_[size_t(y)];
+        if (k == gap_rows_[size_t(y) + 1]) return;
+        size_t at = k == 0 ? 0 : (k - 1) * n / gap_count + 1;
+        for (int x = 0; x < w; ++x) {
+          const size_t i = size_t(y) * size_t(w) + size_t(x);
+          if (!gaps[i]) continue;
+          if ((k * n) % gap_count < n && at < n) picked[at++] = uint32_t(i);
+          ++k;
+        }
+      });
       make_requests(picked, w, settings_.seed, uint64_t(frame_) * 2 + 1, 0, shot.requests);
       main_budget -= picked.size();
       stats_.predicted = picked.size();
@@ -261,35 +271,51 @@ void FrameRenderer::find_and_rasterize_edges(const ViewFrame& frame) {
       if (settings_.soft_shadow_edges || t.first.light < punctual) triples.push_back(t.first);
     finder_->shadow_edges(edge_scene_, triples, edges_);
   }
-  stats_.ms.find_edges = ms_since(t);
+  stats_.ms[FrameStage::find_edges] = ms_since(t);
 
   // Projection, clipping, occlusion culling, rasterization.
   t = Clock::now();
   if (settings_.occlusion_culling) filter_depth(cache_.image(), settings_.depth_filter, filtered_depth_);
   else filtered_depth_.clear();
-  for (const edges::SceneEdge& e : edges_) {
-    const EdgeFate fate = project_edge(frame, e.a, e.b, filtered_depth_, segments_);
-    segment_kinds_.resize(segments_.size(), e.kind);
-    if (fate == EdgeFate::outside) continue;
-    if (fate == EdgeFate::culled) {
+  project_edges(frame, edges_, filtered_depth_, segments_, piece_edge_, edge_fates_, edge_scratch_);
+  segment_kinds_.resize(segments_.size());
+  for (size_t k = 0; k < segments_.size(); ++k) segment_kinds_[k] = edges_[piece_edge_[k]].kind;
+  for (size_t k = 0; k < edges_.size(); ++k) {
+    if (edge_fates_[k] == EdgeFate::outside) continue;
+    if (edge_fates_[k] == EdgeFate::culled) {
       ++stats_.edges.culled;
       continue;
     }
-    switch (e.kind) {
+    switch (edges_[k].kind) {
       case edges::EdgeKind::silhouette: ++stats_.edges.silhouette; break;
       case edges::EdgeKind::sharp: ++stats_.edges.sharp; break;
       case edges::EdgeKind::border: ++stats_.edges.border; break;
       default: ++stats_.edges.shadow; break;
     }
   }
-  rasterize_edges(masks_, segments_);
-  stats_.ms.rasterize_edges = ms_since(t);
+  // Bands of rows in parallel, bit for bit the serial rasterizer's masks (core/epi tests it).
+  rasterize_edges_parallel(masks_, segments_, 64, tbb::this_task_arena::max_concurrency());
+  stats_.ms[FrameStage::rasterize_edges] = ms_since(t);
 }
 
 const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm::mat4> object_to_world,
                                       std::span<const glm::vec3> light_positions) {
+  // Adaptive core split: while the shader is behind (the last frame's requests not all shaded
+  // when that frame chose the next ones), the loop keeps to its own cores and leaves the rest to
+  // shading; while it keeps up, the loop takes every core (the shader idles part of the frame).
+  if (loop_arena_ && shader_behind_) {
+    const RgbImage* image = nullptr;
+    loop_arena_->execute([&] { image = &render_frame(camera, object_to_world, light_positions); });
+    return *image;
+  }
+  return render_frame(camera, object_to_world, light_positions);
+}
+
+const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<const glm::mat4> object_to_world,
+                                            std::span<const glm::vec3> light_positions) {
   const auto start = Clock::now();
   stats_ = {};
+  stats_.loop_threads = tbb::this_task_arena::max_concurrency();
   apply_placement(object_to_world, light_positions);
   const ViewFrame frame(make_view(camera, settings_.width, settings_.height));
 
@@ -304,7 +330,7 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
     sampling_ms += ms_since(ts);
     const auto tsh = Clock::now();
     for (const NewShot& s : shots) shader_.shade(s.frame, s.requests, batch);
-    stats_.ms.shade = ms_since(tsh);
+    stats_.ms[FrameStage::shade] = ms_since(tsh);
   } else {
     async_->take_results(batch);
   }
@@ -313,13 +339,14 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   // the edge-aware occlusion test follows it (docs/render.md, "Hidden points").
   const bool edge_aware = settings_.mode == RenderMode::epi && settings_.occlusion_test && finder_ && settings_.view_edges;
   stats_.points = cache_.project(frame, transforms_, !edge_aware);
-  stats_.ms.points = ms_since(t) - sampling_ms - stats_.ms.shade;
+  stats_.ms[FrameStage::points] = ms_since(t) - sampling_ms - stats_.ms[FrameStage::shade];
 
   // Edges (epi mode), then the points they show hidden.
   if (settings_.mode == RenderMode::epi) {
     masks_.clear();
     segments_.clear();
     segment_kinds_.clear();
+    piece_edge_.clear();
     if (finder_) find_and_rasterize_edges(frame);
   }
   t = Clock::now();
@@ -336,7 +363,7 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
     cache_.set_refine_mask(edge_pixels_);
   }
   cache_.fill_epi(epi_);
-  stats_.ms.points += ms_since(t);
+  stats_.ms[FrameStage::points] += ms_since(t);
 
   // Reconstruction.
   ReconstructSettings rs;
@@ -345,36 +372,48 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
   rs.complex_filter = settings_.complex_filter;
   ReconstructTimes rt;
   if (settings_.stage_timings) {
-    reconstructor_.staged(epi_, masks_, rs, reconstruction_, rt);
+    Schedule schedule;
+    schedule.threads = stats_.loop_threads;
+    reconstructor_.staged(epi_, masks_, rs, reconstruction_, rt, schedule);
   } else {
     const auto tr = Clock::now();
-    reconstructor_.tiled(epi_, masks_, rs, Schedule{}, reconstruction_);
+    Schedule schedule;
+    schedule.threads = stats_.loop_threads;  // the reconstructor's own arena, as wide as the loop's
+    reconstructor_.tiled(epi_, masks_, rs, schedule, reconstruction_);
     rt[Stage::interpolate] = ms_since(tr);
   }
-  stats_.ms.classify = rt.reported(Stage::classify), stats_.ms.reachability = rt.reported(Stage::reachability);
-  stats_.ms.interpolate = rt.reported(Stage::interpolate), stats_.ms.antialias = rt.reported(Stage::antialias);
-  stats_.ms.complex = rt.reported(Stage::complex);
+  for (const StageInfo& i : kStages)
+    if (is_reported(i.stage)) stats_.ms[frame_stage(i.stage)] = rt.reported(i.stage);
   stats_.pixels = reconstruction_.counts;
 
   // Epi mode: pixels that reached no sample (black, top priority) filled from their own region.
   if (settings_.mode == RenderMode::epi && settings_.fill_holes) {
     const auto tf = Clock::now();
     const size_t n = reconstruction_.priority.size();
-    holes_.assign(n, 0);
-    barrier_.assign(n, 0);
+    holes_.resize(n), barrier_.resize(n);
     const float* rgb = reconstruction_.image.pixels.data();
-    for (size_t i = 0; i < n; ++i) {
-      holes_[i] = reconstruction_.priority[i] >= kMaxPriority && rgb[3 * i] == 0.0f && rgb[3 * i + 1] == 0.0f && rgb[3 * i + 2] == 0.0f;
-      barrier_[i] = (edge_pixels_[i] & (kDepthEdge | kSharpEdge)) != 0;
-    }
-    stats_.holes_filled = fill_holes(reconstruction_.image, holes_, barrier_);
-    stats_.ms.interpolate += ms_since(tf);
+    const size_t holes = tbb::parallel_reduce(
+        tbb::blocked_range<size_t>(0, n, 1 << 14), size_t(0),
+        [&](const tbb::blocked_range<size_t>& r, size_t count) {
+          for (size_t i = r.begin(); i != r.end(); ++i) {
+            const bool hole = reconstruction_.priority[i] >= kMaxPriority && rgb[3 * i] == 0.0f && rgb[3 * i + 1] == 0.0f &&
+                              rgb[3 * i + 2] == 0.0f;
+            holes_[i] = hole, count += hole;
+            barrier_[i] = (edge_pixels_[i] & (kDepthEdge | kSharpEdge)) != 0;
+          }
+          return count;
+        },
+        std::plus<size_t>());
+    // No hole (the usual frame): nothing to fill, the fill's whole-image passes are skipped.
+    stats_.holes_filled = holes ? fill_holes(reconstruction_.image, holes_, barrier_, hole_scratch_) : 0;
+    stats_.ms[FrameStage::interpolate] += ms_since(tf);
   }
 
   // Async: the next requests from this frame's priority; stale ones are dropped.
   if (async_) {
     const auto ts = Clock::now();
     std::vector<NewShot> shots = choose_requests(frame, reconstruction_.priority);
+    shader_behind_ = async_->pending_requests() > 0;  // before the last requests are dropped
     async_->cancel_pending();
     // Main and predicted requests interleaved in proportion, in rounds of a quarter slice.
     std::vector<size_t> sizes;
@@ -385,7 +424,7 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
     }
     sampling_ms += ms_since(ts);
   }
-  stats_.ms.sampling = sampling_ms;
+  stats_.ms[FrameStage::sampling] = sampling_ms;
   if (stats_.samples > 0) stats_.sparseness = double(settings_.width) * double(settings_.height) / double(stats_.samples);
   previous_camera_ = std::make_unique<Camera>(camera);
   ++frame_;

@@ -14,9 +14,13 @@
 #include <span>
 #include <vector>
 
+#include <tbb/task_arena.h>
+
 #include "edges/scene_edges.h"
 #include "epi/reconstruct.h"
 #include "render/edge_projection.h"
+#include "render/frame_stages.h"
+#include "render/hole_fill.h"
 #include "render/point_cache.h"
 #include "shade/async_shader.h"
 #include "shade/shader.h"
@@ -24,6 +28,7 @@
 namespace epi::render {
 
 enum class RenderMode { epi, rendercache };
+enum class CoreSplit { adaptive, shared };
 
 struct FrameSettings {
   RenderMode mode = RenderMode::epi;
@@ -40,7 +45,12 @@ struct FrameSettings {
   float predict_frames = 4.0f;  // how far ahead the camera is extrapolated
   int predict_stride = 2;       // predictive projection uses 1/stride of the points ...
   int predict_splat = 3;        // ... as splat x splat squares
-  int shader_threads = 0;       // AsyncShader concurrency (0: all cores)
+  // How the asynchronous shader and the frame loop share the cores (docs/render.md, "Cores").
+  // adaptive: the shader gets shader_threads (0: all cores but one, at least one) and the loop
+  // one core while the shader is behind (the last frame's requests not all shaded when that
+  // frame ended), all cores while it keeps up; shared: both use all cores, the OS splits them.
+  CoreSplit core_split = CoreSplit::adaptive;
+  int shader_threads = 0;       // AsyncShader concurrency (0: as core_split says)
   // epi mode: which edges go into the EPI, and their occlusion culling.
   bool view_edges = true;       // silhouette, sharp, border
   bool sharp_border_edges = true;  // with view_edges: false keeps silhouettes only (the study's edge-kind knob)
@@ -61,13 +71,6 @@ struct FrameSettings {
   std::function<void()> before_shading_slice;
 };
 
-// Per-stage wall time of one frame, ms (the paper's table 2).
-struct StageTimes {
-  double find_edges = 0, rasterize_edges = 0, points = 0, classify = 0, reachability = 0, interpolate = 0,
-         antialias = 0, complex = 0, sampling = 0, total = 0;
-  double shade = 0;  // sync mode only: shading this frame's budget (inside total)
-};
-
 struct EdgeCounts {
   int64_t silhouette = 0, sharp = 0, border = 0, shadow = 0, culled = 0;
 };
@@ -81,6 +84,7 @@ struct FrameStats {
   size_t requested = 0;  // requests made this frame (incl. predicted)
   size_t predicted = 0;  // of which for predicted gaps
   size_t holes_filled = 0;  // pixels that reached no sample, filled by fill_holes
+  int loop_threads = 0;     // the frame loop's concurrency this frame (FrameSettings::core_split)
   // Pixels per new sample this frame; +infinity when no sample was integrated (not 0: 0 would
   // read as "densest possible").
   double sparseness = std::numeric_limits<double>::infinity();
@@ -136,6 +140,8 @@ class FrameRenderer {
     ViewFrame frame;
     std::vector<ShadeRequest> requests;
   };
+  const RgbImage& render_frame(const Camera& camera, std::span<const glm::mat4> object_to_world,
+                               std::span<const glm::vec3> light_positions);
   void apply_placement(std::span<const glm::mat4> object_to_world, std::span<const glm::vec3> light_positions);
   void find_and_rasterize_edges(const ViewFrame& frame);
   void integrate(const ShadeBatch& batch);
@@ -147,6 +153,9 @@ class FrameRenderer {
   const Shader& shader_;
   FrameSettings settings_;
   std::unique_ptr<AsyncShader> async_;
+  int cores_ = 1, shader_threads_ = 0;
+  bool shader_behind_ = false;  // the last frame's requests were not all shaded by its end
+  std::unique_ptr<tbb::task_arena> loop_arena_;  // the loop's cores while the shader is behind (adaptive)
   PointCache cache_;
   EpiImage epi_;
   BoundaryMasks masks_;
@@ -166,10 +175,20 @@ class FrameRenderer {
   std::vector<edges::SceneEdge> edges_;
   std::vector<Segment> segments_;
   std::vector<edges::EdgeKind> segment_kinds_;
+  std::vector<uint32_t> piece_edge_;  // the edge of each piece in segments_
+  std::vector<EdgeFate> edge_fates_;
+  EdgeProjectionScratch edge_scratch_;
   std::vector<float> filtered_depth_;
   EdgeCrossings crossings_;           // the same edges' barrier pieces, for the occlusion test
   std::vector<uint8_t> edge_pixels_;  // pixels crossed by edges, by kind (point_cache.h)
   std::vector<uint8_t> holes_, barrier_;  // hole filling
+  HoleFillScratch hole_scratch_;
+  // Predictive sampling's per-frame scratch: predicted occupancy (then the gaps), depth sums per
+  // band of rows, unseen 8x8 blocks, the gap pixels picked, gaps per row.
+  std::vector<uint8_t> occupied_, unseen_;
+  std::vector<std::pair<double, size_t>> depth_sums_;
+  std::vector<uint32_t> picked_;
+  std::vector<size_t> gap_rows_;  // gaps above each row (prefix sums)
   FrameStats stats_;
   int frame_ = 0;
 };

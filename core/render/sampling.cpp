@@ -67,9 +67,11 @@ std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width
   auto weight = [&](size_t i) { return uniform ? 1.0f : std::max(0.0f, priority[i]); };
   const double scale = double(count) / (uniform ? double(pixels) : total);
 
-  // The value at the decision is kept: it ranks pixels when the count is settled.
-  std::vector<float> decision(pixels);
-  std::vector<uint8_t> chosen(pixels, 0);
+  // The value at the decision is kept: it ranks pixels when the count is settled. Every pixel's
+  // entries are written below; the storage is the thread's, kept from band to band and frame to frame.
+  thread_local std::vector<float> decision;
+  thread_local std::vector<uint8_t> chosen;
+  decision.resize(pixels), chosen.resize(pixels);
   const HilbertBlock& curve = hilbert_block();
   double error = double(unit_float(splitmix64(band_seed))) - 0.5;  // the phase of the first pick
   const int blocks = (width + kBlock - 1) / kBlock;
@@ -246,8 +248,18 @@ Camera extrapolate_camera(const Camera& previous, const Camera& current, float a
 
 std::vector<uint8_t> predicted_occupancy(const PointCache& cache, const ViewFrame& frame,
                                          std::span<const glm::mat4> object_to_world, int stride, int phase, int splat) {
+  std::vector<uint8_t> occupied;
+  predicted_occupancy(cache, frame, object_to_world, stride, phase, splat, occupied);
+  return occupied;
+}
+
+void predicted_occupancy(const PointCache& cache, const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
+                         int stride, int phase, int splat, std::vector<uint8_t>& occupied) {
   const int w = frame.view().width, h = frame.view().height;
-  std::vector<uint8_t> occupied(size_t(w) * size_t(h), 0);
+  occupied.resize(size_t(w) * size_t(h));
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, occupied.size(), 1 << 16), [&](const tbb::blocked_range<size_t>& r) {
+    std::fill(occupied.begin() + ptrdiff_t(r.begin()), occupied.begin() + ptrdiff_t(r.end()), uint8_t(0));
+  });
   const auto& points = cache.points();
   stride = std::max(1, stride);
   const float znear = std::max(frame.view().camera.znear, 0.0f);
@@ -267,7 +279,6 @@ std::vector<uint8_t> predicted_occupancy(const PointCache& cache, const ViewFram
           std::atomic_ref<uint8_t>(occupied[size_t(y) * size_t(w) + size_t(x)]).store(1, std::memory_order_relaxed);
     }
   });
-  return occupied;
 }
 
 }  // namespace epi::render

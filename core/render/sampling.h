@@ -16,8 +16,9 @@
 namespace epi::render {
 
 // Exactly min(count, width * height) distinct pixel indices, spread in proportion to priority
-// by Floyd-Steinberg error diffusion (serpentine rows). Pixels of zero priority are taken only
-// when every positive one is; zero priority everywhere counts as uniform. Deterministic.
+// by error diffusion along a space-filling path (docs/render.md, "Sampling"), in bands of rows
+// dithered in parallel. Pixels of zero priority are taken only when every positive one is; zero
+// priority everywhere counts as uniform. Deterministic, the same for any thread count.
 std::vector<uint32_t> dither_pixels(std::span<const float> priority, int width, int height, size_t count);
 
 // An error diffusion's picks (`chosen`, with each pixel's value at its decision) settled to
@@ -60,5 +61,8 @@ Camera extrapolate_camera(const Camera& previous, const Camera& current, float a
 // splat x splat squares; one byte per pixel, 1 where occupied. The gaps are the zeros.
 std::vector<uint8_t> predicted_occupancy(const PointCache& cache, const ViewFrame& frame,
                                          std::span<const glm::mat4> object_to_world, int stride, int phase, int splat);
+// The same into `occupied` (resized, its storage kept: the renderer's, per frame).
+void predicted_occupancy(const PointCache& cache, const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
+                         int stride, int phase, int splat, std::vector<uint8_t>& occupied);
 
 }  // namespace epi::render

@@ -1,11 +1,14 @@
 // 3D edges into pixel segments: projection against ViewFrame::project, near-plane and frustum
 // clipping (property test over random segments), and occlusion culling against filtered depth.
+#include <algorithm>
 #include <cmath>
+#include <utility>
 #include <limits>
 #include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include "render/edge_projection.h"
 
@@ -132,6 +135,122 @@ TEST(EdgeProjection, OcclusionCullingAgainstThePointDepth) {
   EXPECT_TRUE(out.empty());
   // On the wall (depth 3).
   EXPECT_EQ(project_edge(frame, {-0.8, 0.1, 7}, {-0.3, 0.1, 7}, filtered, out), EdgeFate::visible);
+}
+
+// The banded filter against the definition, pixel by pixel, on random sparse point images whose
+// sizes are not multiples of the band (16 rows): bit for bit.
+TEST(EdgeProjection, FilteredDepthEqualsTheWindowDefinitionOnRandomImages) {
+  std::mt19937 rng(11);
+  const DepthFilterSettings s;
+  for (auto [w, h] : {std::pair{37, 53}, std::pair{64, 16}, std::pair{5, 3}, std::pair{130, 97}}) {
+    PointImage image = plane_points(w, h, 1.0f);
+    std::uniform_real_distribution<float> depth(0.5f, 20.0f), u(0.0f, 1.0f);
+    for (size_t i = 0; i < image.depth.size(); ++i) {
+      image.depth[i] = depth(rng);
+      if (u(rng) < 0.6f) image.point[i] = -1;
+    }
+    std::vector<float> filtered;
+    filter_depth(image, s, filtered);
+    ASSERT_EQ(filtered.size(), size_t(w) * size_t(h));
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        float m = -std::numeric_limits<float>::infinity();
+        int n = 0;
+        for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 2); ++qy)
+          for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 2); ++qx)
+            if (image.point[image.index(qx, qy)] >= 0) m = std::max(m, image.depth[image.index(qx, qy)]), ++n;
+        const float want = n == 0 ? std::numeric_limits<float>::infinity()
+                                  : m * (1.0f + s.base_offset + s.sparse_offset * (float(16 - n) / 16.0f));
+        ASSERT_EQ(filtered[image.index(x, y)], want) << x << "," << y << " of " << w << "x" << h;
+      }
+  }
+}
+
+// project_edges (parallel chunks) against project_edge edge by edge: the same pieces in the same
+// order, the same owners and fates, bit for bit, with culling on a random depth image, whatever
+// the thread count (run under 1 and 4 threads).
+TEST(EdgeProjection, ParallelProjectionEqualsTheSerialOneBitForBit) {
+  const ViewFrame frame = test_frame(96, 80);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> coord(-5.0, 5.0);
+  std::vector<edges::SceneEdge> edges(1000);
+  for (edges::SceneEdge& e : edges) e.a = {coord(rng), coord(rng), coord(rng)}, e.b = {coord(rng), coord(rng), coord(rng)};
+  PointImage image = plane_points(96, 80, 1.0f);
+  std::uniform_real_distribution<float> depth(2.0f, 6.0f), u(0.0f, 1.0f);
+  for (size_t i = 0; i < image.depth.size(); ++i) {
+    image.depth[i] = depth(rng);
+    if (u(rng) < 0.3f) image.point[i] = -1;
+  }
+  std::vector<float> filtered;
+  filter_depth(image, DepthFilterSettings{}, filtered);
+  for (const bool cull : {false, true}) {
+    const std::span<const float> depths = cull ? std::span<const float>(filtered) : std::span<const float>();
+    std::vector<Segment> want;
+    std::vector<uint32_t> want_owner;
+    std::vector<EdgeFate> want_fate;
+    for (size_t k = 0; k < edges.size(); ++k) {
+      want_fate.push_back(project_edge(frame, edges[k].a, edges[k].b, depths, want));
+      want_owner.resize(want.size(), uint32_t(k));
+    }
+    int culled = 0, split = 0;
+    for (EdgeFate f : want_fate) culled += f == EdgeFate::culled;
+    for (size_t k = 1; k < want_owner.size(); ++k) split += want_owner[k] == want_owner[k - 1];
+    if (cull) {  // the depth image culls some edges and splits others: the test covers both
+      EXPECT_GT(culled, 20);
+      EXPECT_GT(split, 20);
+    }
+    for (const int threads : {1, 4}) {
+      tbb::task_arena arena(threads);
+      std::vector<Segment> got = {{1, 2, 3, 4}};  // appended to
+      std::vector<uint32_t> owner = {7};
+      std::vector<EdgeFate> fate;
+      EdgeProjectionScratch scratch;
+      arena.execute([&] { project_edges(frame, edges, depths, got, owner, fate, scratch); });
+      ASSERT_EQ(got.size(), want.size() + 1);
+      ASSERT_EQ(owner.size(), want_owner.size() + 1);
+      for (size_t k = 0; k < want.size(); ++k) {
+        const Segment& a = got[k + 1], &b = want[k];
+        ASSERT_TRUE(a.x0 == b.x0 && a.y0 == b.y0 && a.x1 == b.x1 && a.y1 == b.y1) << k;
+        ASSERT_EQ(owner[k + 1], want_owner[k]);
+      }
+      EXPECT_EQ(fate, want_fate);
+    }
+  }
+}
+
+// mark_edge_pixels (pieces in parallel, atomic OR) against the pieces marked one after another,
+// with pieces of every kind crossing each other and the image border.
+TEST(EdgeProjection, EdgePixelsEqualThePiecesMarkedInTurn) {
+  const int w = 120, h = 90;
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> coord(-10.0, 130.0);
+  std::vector<Segment> segments(3000);
+  std::vector<edges::EdgeKind> kinds(segments.size());
+  const edges::EdgeKind all[] = {edges::EdgeKind::silhouette, edges::EdgeKind::sharp, edges::EdgeKind::border,
+                                 edges::EdgeKind::shadow};
+  for (size_t k = 0; k < segments.size(); ++k) {
+    const double x = coord(rng), y = coord(rng);
+    segments[k] = {x, y, x + (coord(rng) - 60.0) * 0.2, y + (coord(rng) - 60.0) * 0.2};
+    kinds[k] = all[rng() % 4];
+  }
+  std::vector<uint8_t> want(size_t(w * h), 0);
+  for (size_t k = 0; k < segments.size(); ++k) {
+    const uint8_t bit = kinds[k] == edges::EdgeKind::silhouette || kinds[k] == edges::EdgeKind::border ? kDepthEdge
+                        : kinds[k] == edges::EdgeKind::sharp                                           ? kSharpEdge
+                                                                                                       : kShadowEdge;
+    const Segment& s = segments[k];
+    const int steps = 1 + int(8.0 * std::hypot(s.x1 - s.x0, s.y1 - s.y0));
+    for (int j = 0; j <= steps; ++j) {
+      const double t = double(j) / steps, x = s.x0 + t * (s.x1 - s.x0), y = s.y0 + t * (s.y1 - s.y0);
+      if (x >= 0.0 && y >= 0.0 && x < w && y < h) want[size_t(y) * size_t(w) + size_t(x)] |= bit;
+    }
+  }
+  std::vector<uint8_t> got(7, 0xff);  // resized and cleared
+  mark_edge_pixels(segments, kinds, w, h, got);
+  EXPECT_EQ(got, want);
+  int mixed = 0;
+  for (uint8_t m : want) mixed += m != 0 && (m & (m - 1)) != 0;
+  EXPECT_GT(mixed, 50);  // pixels of two kinds: the OR is exercised
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include "epi/reconstruct.h"
 #include "render/renderer.h"
@@ -62,6 +63,52 @@ TEST(FrameLoop, SyncRunsAreDeterministicForASeed) {
     }
     EXPECT_EQ(runs[0].pixels, runs[1].pixels);
     EXPECT_NE(runs[0].pixels, runs[2].pixels);
+  }
+}
+
+// The loop's parallel stages (filter_depth, project_edges, rasterization and edge pixels in
+// bands, the masks, the dither's bands, predictive occupancy) give the same frames under 1 and
+// 4 threads: images, priorities, edge pieces and boundary masks bit for bit, camera moving.
+TEST(FrameLoop, SyncFramesAreTheSameWhateverTheThreadCount) {
+  for (RenderMode mode : {RenderMode::epi, RenderMode::rendercache}) {
+    struct Run {
+      std::vector<float> image, priority;
+      std::vector<Segment> segments;
+      std::vector<uint8_t> masks;
+    };
+    std::vector<Run> runs;
+    for (const int threads : {1, 4}) {
+      tbb::task_arena arena(threads);
+      arena.execute([&] {
+        Fixture f;
+        FrameSettings s = small_settings(mode);
+        s.width = 150, s.height = 110;
+        FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+        Camera camera = f.scene.cameras[0];
+        Run run;
+        for (int k = 0; k < 8; ++k) {
+          camera.eye.x += 0.06f, camera.eye.y += 0.02f;
+          const RgbImage& image = renderer.render(camera);
+          run.image.insert(run.image.end(), image.pixels.begin(), image.pixels.end());
+          run.priority.insert(run.priority.end(), renderer.priority().begin(), renderer.priority().end());
+          run.segments.insert(run.segments.end(), renderer.segments().begin(), renderer.segments().end());
+          const BoundaryMasks& m = renderer.masks();
+          for (const auto* plane : {&m.top, &m.left, &m.centre_h, &m.centre_v}) run.masks.insert(run.masks.end(), plane->begin(), plane->end());
+        }
+        runs.push_back(std::move(run));
+      });
+    }
+    EXPECT_EQ(runs[0].image, runs[1].image);
+    EXPECT_EQ(runs[0].priority, runs[1].priority);
+    ASSERT_EQ(runs[0].segments.size(), runs[1].segments.size());
+    for (size_t k = 0; k < runs[0].segments.size(); ++k) {
+      const Segment &a = runs[0].segments[k], &b = runs[1].segments[k];
+      ASSERT_TRUE(a.x0 == b.x0 && a.y0 == b.y0 && a.x1 == b.x1 && a.y1 == b.y1) << k;
+    }
+    EXPECT_EQ(runs[0].masks, runs[1].masks);
+    if (mode == RenderMode::epi) {
+      EXPECT_GT(runs[0].segments.size(), 8u);
+    }
   }
 }
 
@@ -385,6 +432,38 @@ TEST(FrameLoop, FramesReturnWhileTheShaderIsHeld) {
 void wait_for_shader(const FrameRenderer& renderer) {
   for (int k = 0; k < 20000 && renderer.pending_requests() > 0; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   std::this_thread::sleep_for(std::chrono::milliseconds(2));  // the last slice's results are published after the count
+}
+
+// The adaptive core split (docs/render.md, "Cores"): while the shader is held with requests
+// pending, the loop runs on the cores the shader leaves it (all but the shader's, at least one);
+// once the shader has caught up, on all of them; with the shared split always on all of them.
+TEST(FrameLoop, AdaptiveSplitGivesTheLoopOneCoreWhileTheShaderIsBehind) {
+  const int cores = tbb::this_task_arena::max_concurrency();
+  for (const CoreSplit split : {CoreSplit::adaptive, CoreSplit::shared}) {
+    Fixture f;
+    std::promise<void> release;
+    std::shared_future<void> released = release.get_future().share();
+    FrameSettings s = small_settings(RenderMode::epi, false);
+    s.core_split = split;
+    s.before_shading_slice = [&] { released.wait(); };
+    FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+    const Camera camera = f.scene.cameras[0];
+    renderer.render(camera);  // nothing submitted before it
+    const int first = renderer.stats().loop_threads;
+    renderer.render(camera);  // the first frame's requests are held: still pending at its end
+    renderer.render(camera);
+    const int behind = renderer.stats().loop_threads;
+    const size_t pending = renderer.pending_requests();
+    release.set_value();
+    wait_for_shader(renderer);
+    renderer.render(camera);  // all shaded by this frame's end
+    renderer.render(camera);
+    const int caught_up = renderer.stats().loop_threads;
+    EXPECT_GT(pending, 0u);
+    EXPECT_EQ(first, cores);
+    EXPECT_EQ(caught_up, cores);
+    EXPECT_EQ(behind, split == CoreSplit::adaptive ? 1 : cores) << "cores " << cores;  // the shader: cores - 1
+  }
 }
 
 // Async shading while the box moves every frame: results of every frame are integrated (not

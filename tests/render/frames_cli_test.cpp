@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include "render/frame_stages.h"
 #include "run_epi.h"  // tests/cli
 #include <nlohmann/json.hpp>
 
@@ -51,9 +52,10 @@ TEST(FramesCli, SyncRunsGiveTheSameBytesAndTheStatsOfTheIssue) {
     }
     EXPECT_FALSE(fs::exists(dir / "f004.exr"));
     const nlohmann::json stats = nlohmann::json::parse(read_file(dir / "a.json"));
-    for (const char* stage : {"find_edges", "rasterize_edges", "points", "classify", "reachability", "interpolate",
-                              "antialias", "complex", "total"})
-      EXPECT_TRUE(stats["stages_ms"].contains(stage)) << stage;
+    // stages_ms: exactly the frame's stage table (core/render/frame_stages.h) and the total.
+    EXPECT_EQ(stats["stages_ms"].size(), epi::render::kFrameStages.size() + 1);
+    for (const epi::render::FrameStageInfo& i : epi::render::kFrameStages) EXPECT_TRUE(stats["stages_ms"].contains(i.name)) << i.name;
+    EXPECT_TRUE(stats["stages_ms"].contains("total"));
     for (const char* kind : {"silhouette", "sharp", "border", "shadow", "culled"}) EXPECT_TRUE(stats["edges"].contains(kind));
     const double fractions = stats["pixels"]["empty"].get<double>() + stats["pixels"]["simple"].get<double>() +
                              stats["pixels"]["complex"].get<double>();

@@ -5,9 +5,11 @@
 #include <numeric>
 #include <random>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <tbb/task_arena.h>
 
 #include "render/sampling.h"
 
@@ -102,6 +104,52 @@ TEST(Dither, EveryStripOfRowsGetsItsShareAtEveryDensity) {
         EXPECT_NEAR(high_got / high_want, 1.0, 0.05) << "density " << density;
       }
     }
+  }
+}
+
+// The bands are dithered in parallel: the picks are the same under 1, 2, 3 and 8 threads (a
+// band's picks depend on its rows and its share only), at sparse and dense budgets, and on
+// priority images of many shapes (the largest remainders and the zero-priority rule included).
+TEST(Dither, TheSamePicksWhateverTheThreadCount) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (auto [w, h] : {std::pair{512, 512}, std::pair{333, 270}, std::pair{64, 700}}) {
+    std::vector<float> priority = smooth_priority(w, h, uint32_t(w));
+    for (size_t i = 0; i < priority.size(); i += 1 + rng() % 5) priority[i] = unit(rng) < 0.5f ? 0.0f : 16.0f;
+    for (double density : {0.002, 0.02, 0.3}) {
+      const size_t count = size_t(std::round(density * w * h));
+      std::vector<uint32_t> reference;
+      for (const int threads : {1, 2, 3, 8}) {
+        tbb::task_arena arena(threads);
+        std::vector<uint32_t> picked;
+        arena.execute([&] { picked = dither_pixels(priority, w, h, count); });
+        if (threads == 1) reference = picked;
+        else ASSERT_EQ(picked, reference) << w << "x" << h << " density " << density << " threads " << threads;
+      }
+      ASSERT_EQ(reference.size(), count);
+    }
+  }
+}
+
+// Error diffusion conserves the mass it is given: every 64x64 tile (at 2 % and 20 %, smooth
+// priority) holds the picks its priority mass asks for. The path crosses a tile in 8 pieces (one
+// per 8-row strip), each within one pick of its mass (the carried error stays in [-0.5, 0.5]),
+// so at most 8 picks off, plus the settling of the band's count.
+TEST(Dither, EveryTileGetsItsPriorityMass) {
+  const int w = 640, h = 448, tile = 64;
+  const std::vector<float> priority = smooth_priority(w, h, 23);
+  double total = 0.0;
+  for (float p : priority) total += p;
+  for (double density : {0.02, 0.2}) {
+    const size_t count = size_t(std::round(density * w * h));
+    const std::vector<uint32_t> picked = dither_pixels(priority, w, h, count);
+    const int tw = w / tile, th = h / tile;
+    std::vector<double> got(size_t(tw * th), 0.0), want(size_t(tw * th), 0.0);
+    for (uint32_t p : picked) got[size_t(int(p) / w / tile * tw + int(p) % w / tile)] += 1.0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) want[size_t(y / tile * tw + x / tile)] += double(priority[size_t(y * w + x)]) * double(count) / total;
+    for (size_t t = 0; t < got.size(); ++t)
+      EXPECT_NEAR(got[t], want[t], 8.0 + 0.01 * want[t]) << "tile " << t << " density " << density;
   }
 }
 
