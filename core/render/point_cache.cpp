@@ -1,5 +1,7 @@
 #include "render/point_cache.h"
 
+#include "render/point_cache_detail.h"
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -16,22 +18,10 @@ namespace epi::render {
 
 namespace {
 
-constexpr size_t kAgeBins = 258;  // ages 0..255 (capped), then off screen
-constexpr uint64_t kEmptyKey = ~uint64_t(0);
-constexpr uint32_t kIndexMask = 0x0fffffffu;  // point index; bits 28-31 hold the sub-pixel region
-constexpr float kMinLobeWidth = 0.02f;         // radians: narrower lobes age as if this wide
+using namespace detail;
 
-// Z-buffer key: depth first (positive floats order like their bits), then region and index.
-uint64_t zkey(float depth, int region, uint32_t index) {
-  return uint64_t(std::bit_cast<uint32_t>(depth)) << 32 | uint64_t(region) << 28 | index;
-}
-
-void atomic_min(uint64_t& slot, uint64_t value) {
-  std::atomic_ref<uint64_t> ref(slot);
-  uint64_t current = ref.load(std::memory_order_relaxed);
-  while (value < current && !ref.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
-  }
-}
+constexpr float kMinLobeWidth = 0.02f;  // radians: narrower lobes age as if this wide
+constexpr size_t kPointBlock = 16384, kPixelBlock = 16384;  // the fast path's fixed work blocks
 
 uint32_t pack_srgb(const glm::vec3& c) {
   return uint32_t(encode_srgb8(c.r)) | uint32_t(encode_srgb8(c.g)) << 8 | uint32_t(encode_srgb8(c.b)) << 16;
@@ -46,16 +36,6 @@ uint32_t pack_unit(glm::vec3 n) {
   if (n.z < 0.0f) e = (1.0f - glm::abs(glm::vec2(e.y, e.x))) * glm::vec2(e.x >= 0.0f ? 1.0f : -1.0f, e.y >= 0.0f ? 1.0f : -1.0f);
   const auto q = [](float v) { return uint32_t(std::lround((std::clamp(v, -1.0f, 1.0f) * 0.5f + 0.5f) * 65535.0f)); };
   return q(e.x) | q(e.y) << 16;
-}
-
-glm::vec3 unpack_unit(uint32_t packed) {
-  glm::vec2 e(float(packed & 0xffffu) / 65535.0f * 2.0f - 1.0f, float(packed >> 16) / 65535.0f * 2.0f - 1.0f);
-  glm::vec3 n(e.x, e.y, 1.0f - std::abs(e.x) - std::abs(e.y));
-  if (n.z < 0.0f) {
-    const glm::vec2 f = (1.0f - glm::abs(glm::vec2(e.y, e.x))) * glm::vec2(e.x >= 0.0f ? 1.0f : -1.0f, e.y >= 0.0f ? 1.0f : -1.0f);
-    n.x = f.x, n.y = f.y;
-  }
-  return glm::normalize(n);
 }
 
 float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
@@ -108,88 +88,111 @@ uint8_t PointCache::view_staleness(const CachePoint& p, const glm::vec3& to_eye)
 }
 
 ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull) {
+  if (settings_.reference_path) return project_reference(frame, object_to_world, depth_cull);
   const int w = image_.width, h = image_.height;
   if (frame.view().width != w || frame.view().height != h)
     throw std::invalid_argument("point cache: view size differs from the cache's image size");
-  std::fill(zbuffer_.begin(), zbuffer_.end(), kEmptyKey);
+  if (!zbuffer_empty_) std::fill(zbuffer_.begin(), zbuffer_.end(), kEmptyKey);
   const float znear = std::max(frame.view().camera.znear, 0.0f);
   const int max_age = settings_.max_age;
 
-  // Aging and projection with a z-buffer (points in parallel; the minimum key wins).
-  struct Counts {
-    size_t projected = 0, expired = 0;
-    std::array<uint32_t, kAgeBins> ages{};  // eviction order: age, off-screen points in the top bin
-  };
-  const Counts counts = tbb::parallel_reduce(
-      tbb::blocked_range<size_t>(0, points_.size(), 4096), Counts{},
-      [&](const tbb::blocked_range<size_t>& range, Counts c) {
-        for (size_t i = range.begin(); i != range.end(); ++i) {
-          CachePoint& p = points_[i];
-          if (!p.valid) continue;
-          p.age = uint16_t(std::min(p.age + 1, 0xffff));
-          const glm::vec3 world = world_position(p, frame, object_to_world);
-          p.staleness = view_staleness(p, frame.eye() - world);
-          const Projection proj = frame.project(world);
-          const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
-                              proj.pixel.x < float(w) && proj.pixel.y < float(h);
-          if (!inside) {
-            p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
-            p.image_id = -1;
-          }
-          if (p.age > max_age) {
-            p.valid = false, p.image_id = -1;
-            ++c.expired;
-            continue;
-          }
-          ++c.ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
-          if (!inside) continue;
-          const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
-          const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
-          const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
-          const size_t pixel = size_t(py) * size_t(w) + size_t(px);
-          p.image_id = int32_t(pixel);
-          atomic_min(zbuffer_[pixel], zkey(proj.depth, rx + 4 * ry, uint32_t(i)));
-          ++c.projected;
-        }
-        return c;
-      },
-      [](Counts a, const Counts& b) {
-        a.projected += b.projected, a.expired += b.expired;
-        for (size_t k = 0; k < kAgeBins; ++k) a.ages[k] += b.ages[k];
-        return a;
-      });
+  // Aging and projection with a z-buffer (blocks of points in parallel; the minimum key wins).
+  const size_t n = points_.size();
+  point_blocks_.resize((n + kPointBlock - 1) / kPointBlock);
+  tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
+    PointBlock& block = point_blocks_[b];
+    block.projected = block.expired = 0;
+    block.ages.assign(kAgeBins, 0);
+    block.free.clear();
+    for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
+      CachePoint& p = points_[i];
+      if (!p.valid) {
+        block.free.push_back(uint32_t(i));
+        continue;
+      }
+      p.age = uint16_t(std::min(p.age + 1, 0xffff));
+      const glm::vec3 world = world_position(p, frame, object_to_world);
+      p.staleness = view_staleness(p, frame.eye() - world);
+      const Projection proj = frame.project(world);
+      const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
+                          proj.pixel.x < float(w) && proj.pixel.y < float(h);
+      if (!inside) {
+        p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
+        p.image_id = -1;
+      }
+      if (p.age > max_age) {
+        p.valid = false, p.image_id = -1;
+        ++block.expired;
+        block.free.push_back(uint32_t(i));
+        continue;
+      }
+      ++block.ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
+      if (!inside) continue;
+      const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
+      const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
+      const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
+      const size_t pixel = size_t(py) * size_t(w) + size_t(px);
+      p.image_id = int32_t(pixel);
+      atomic_min(zbuffer_[pixel], zkey(proj.depth, rx + 4 * ry, uint32_t(i)));
+      ++block.projected;
+    }
+  });
+  size_t projected = 0, expired = 0;
+  age_histogram_.assign(kAgeBins, 0);
+  for (const PointBlock& block : point_blocks_) {
+    projected += block.projected, expired += block.expired;
+    for (size_t k = 0; k < kAgeBins; ++k) age_histogram_[k] += block.ages[k];
+  }
 
-  // Unpack the z-buffer.
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, zbuffer_.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
+  // Unpack the z-buffer (clearing it for the next projection); without a depth cull, the drawn
+  // points' ages are counted in the same pass.
+  const size_t pixels = zbuffer_.size();
+  pixel_blocks_.resize((pixels + kPixelBlock - 1) / kPixelBlock);
+  tbb::parallel_for(size_t(0), pixel_blocks_.size(), [&](size_t b) {
+    for (size_t i = b * kPixelBlock, end = std::min(pixels, i + kPixelBlock); i != end; ++i) {
       const uint64_t key = zbuffer_[i];
       if (key == kEmptyKey) {
-        winners_[i] = -1;
+        winners_[i] = image_.point[i] = -1;
         image_.depth[i] = std::numeric_limits<float>::infinity();
         continue;
       }
-      winners_[i] = int32_t(uint32_t(key) & kIndexMask);
+      zbuffer_[i] = kEmptyKey;
+      winners_[i] = image_.point[i] = int32_t(uint32_t(key) & kIndexMask);
       image_.depth[i] = std::bit_cast<float>(uint32_t(key >> 32));
       image_.region[i] = uint8_t((uint32_t(key) >> 28) & 15);
     }
+    if (!depth_cull) count_drawn(b);
   });
-
-  std::copy(winners_.begin(), winners_.end(), image_.point.begin());
-  const size_t culled = depth_cull ? this->depth_cull({}) : 0;
-
-  // Free the slots of expired points.
-  if (counts.expired > 0) {
-    free_slots_.clear();
-    for (size_t i = points_.size(); i-- > 0;)
-      if (!points_[i].valid) free_slots_.push_back(uint32_t(i));
+  zbuffer_empty_ = true;
+  size_t culled = 0;
+  if (depth_cull) {
+    culled = this->depth_cull({});
+    tbb::parallel_for(size_t(0), pixel_blocks_.size(), [&](size_t b) { count_drawn(b); });
   }
-  age_histogram_.assign(counts.ages.begin(), counts.ages.end());
-  for (const int32_t q : image_.point)
-    if (q >= 0) --age_histogram_[kAgeBins - 1], ++age_histogram_[std::min<size_t>(points_[size_t(q)].age, kAgeBins - 2)];
+
+  // Free the slots of expired points (all free slots, in descending order).
+  if (expired > 0) {
+    free_slots_.clear();
+    for (size_t b = point_blocks_.size(); b-- > 0;)
+      free_slots_.insert(free_slots_.end(), point_blocks_[b].free.rbegin(), point_blocks_[b].free.rend());
+  }
+  size_t drawn = 0;
+  for (const PixelBlock& block : pixel_blocks_) {
+    drawn += block.drawn;
+    age_histogram_[kAgeBins - 1] -= uint32_t(block.drawn);
+    for (size_t k = 0; k + 1 < kAgeBins; ++k) age_histogram_[k] += block.ages[k];
+  }
   last_frame_.emplace(frame);
   last_transforms_.assign(object_to_world.begin(), object_to_world.end());
-  const size_t drawn = size_t(std::count_if(image_.point.begin(), image_.point.end(), [](int32_t q) { return q >= 0; }));
-  return {counts.projected, drawn, culled, 0, counts.expired};
+  return {projected, drawn, culled, 0, expired};
+}
+
+void PointCache::count_drawn(size_t b) {
+  PixelBlock& block = pixel_blocks_[b];
+  block.drawn = 0;
+  block.ages.assign(kAgeBins, 0);
+  for (size_t i = b * kPixelBlock, end = std::min(image_.point.size(), i + kPixelBlock); i != end; ++i)
+    if (const int32_t q = image_.point[i]; q >= 0) ++block.drawn, ++block.ages[std::min<size_t>(points_[size_t(q)].age, kAgeBins - 2)];
 }
 
 bool PointCache::drawn(size_t slot) const {
@@ -198,6 +201,7 @@ bool PointCache::drawn(size_t slot) const {
 }
 
 size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
+  if (settings_.reference_path) return depth_cull_reference(edge_pixels);
   const int w = image_.width, h = image_.height;
   const bool edges = edge_pixels.size() == image_.point.size();
   // Near a silhouette or border the far side is visible: the mean would remove it.
@@ -209,13 +213,16 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
     return false;
   };
   const float cull_scale = 1.0f + settings_.depth_cull_offset;
-  std::vector<uint8_t> cull(image_.point.size(), 0);
+  // The means see the z-buffer's winners: the culled image goes to next_point_ / next_depth_.
+  next_point_.resize(image_.point.size());
+  next_depth_.resize(image_.depth.size());
   const size_t culled = tbb::parallel_reduce(
       tbb::blocked_range<int>(0, h, 8), size_t(0),
       [&](const tbb::blocked_range<int>& rows, size_t count) {
         for (int y = rows.begin(); y != rows.end(); ++y)
           for (int x = 0; x < w; ++x) {
             const size_t i = image_.index(x, y);
+            next_point_[i] = image_.point[i], next_depth_[i] = image_.depth[i];
             if (image_.point[i] < 0 || protected_pixel(x, y)) continue;
             double sum = 0.0;
             int n = 0;
@@ -226,14 +233,14 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
                 sum += image_.depth[q];
                 ++n;
               }
-            if (image_.depth[i] > float(sum / n) * cull_scale) cull[i] = 1, ++count;
+            if (image_.depth[i] > float(sum / n) * cull_scale)
+              next_point_[i] = -1, next_depth_[i] = std::numeric_limits<float>::infinity(), ++count;
           }
         return count;
       },
       std::plus<size_t>());
-  // Removed after the pass (the means see the z-buffer's winners); the depth of a culled pixel is +inf.
-  for (size_t i = 0; i < cull.size(); ++i)
-    if (cull[i]) image_.point[i] = -1, image_.depth[i] = std::numeric_limits<float>::infinity();
+  image_.point.swap(next_point_);
+  image_.depth.swap(next_depth_);
   return culled;
 }
 
@@ -338,8 +345,8 @@ int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, con
 
 size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::span<const glm::mat4> object_to_world,
                           uint16_t epoch) {
-  std::vector<glm::mat4> to_object(object_to_world.size());
-  std::vector<uint8_t> inverted(object_to_world.size(), 0);
+  to_object_.resize(object_to_world.size());
+  inverted_.assign(object_to_world.size(), 0);
   const int w = image_.width, h = image_.height;
   if (free_slots_.size() < batch.results.size()) choose_evict_age(batch.results.size() - free_slots_.size());
   size_t inserted = 0;
@@ -354,9 +361,9 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
     point.valid = true;
     glm::vec3 world;
     if (r.hit && r.object < object_to_world.size()) {
-      if (!inverted[r.object]) to_object[r.object] = glm::inverse(object_to_world[r.object]), inverted[r.object] = 1;
+      if (!inverted_[r.object]) to_object_[r.object] = glm::inverse(object_to_world[r.object]), inverted_[r.object] = 1;
       point.object = r.object;
-      point.local = glm::vec3(to_object[r.object] * glm::vec4(r.position, 1.0f));
+      point.local = glm::vec3(to_object_[r.object] * glm::vec4(r.position, 1.0f));
       // Normals go to object space with the transpose of the object-to-world matrix.
       point.normal = pack_unit(glm::transpose(glm::mat3(object_to_world[r.object])) * r.normal);
       // Where the point was at the last projection (its object may have moved since the shot).
@@ -451,13 +458,27 @@ bool PointCache::refines(const CachePoint& cached, const CachePoint& result) con
 
 size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                         std::span<const uint8_t> edge_pixels) {
+  if (settings_.reference_path) return cull_behind_surfaces_reference(frame, object_to_world, edge_pixels);
   const int w = image_.width, h = image_.height, radius = std::max(1, settings_.occlusion_radius);
   if (edge_pixels.size() != image_.point.size()) throw std::invalid_argument("point cache: edge mask size differs from the image");
   auto barrier = [&](size_t i) { return (edge_pixels[i] & (kDepthEdge | kSharpEdge)) != 0; };
   const float scale = 1.0f + settings_.occlusion_margin;
   // Normals back to world space: the inverse transpose of each object's matrix.
-  std::vector<glm::mat3> normal_to_world(object_to_world.size());
-  for (size_t o = 0; o < object_to_world.size(); ++o) normal_to_world[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
+  normal_to_world_.resize(object_to_world.size());
+  for (size_t o = 0; o < object_to_world.size(); ++o) normal_to_world_[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
+  // Each drawn point's tangent plane in the world, once per pixel (not once per neighbour).
+  const size_t pixels = image_.point.size();
+  plane_normal_.resize(pixels), plane_at_.resize(pixels), has_plane_.resize(pixels);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 16384), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const int32_t q = image_.point[i];
+      has_plane_[i] = q >= 0 && points_[size_t(q)].object != kNone && points_[size_t(q)].object < object_to_world.size();
+      if (!has_plane_[i]) continue;
+      const CachePoint& near = points_[size_t(q)];
+      plane_normal_[i] = glm::normalize(normal_to_world_[near.object] * unpack_unit(near.normal));
+      plane_at_[i] = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));
+    }
+  });
   // A pixel q is seen from p without crossing an edge when no barrier pixel lies on the segment
   // between their centres (sampled every half pixel), q itself included.
   auto clear_path = [&](int px, int py, int qx, int qy) {
@@ -469,13 +490,16 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
     }
     return true;
   };
-  std::vector<uint8_t> hidden(image_.point.size(), 0);
+  // The test sees the image before the pass: the result goes to next_point_ / next_depth_.
+  next_point_.resize(pixels);
+  next_depth_.resize(pixels);
   const size_t removed = tbb::parallel_reduce(
       tbb::blocked_range<int>(0, h, 8), size_t(0),
       [&](const tbb::blocked_range<int>& rows, size_t count) {
         for (int y = rows.begin(); y != rows.end(); ++y)
           for (int x = 0; x < w; ++x) {
             const size_t i = image_.index(x, y);
+            next_point_[i] = image_.point[i], next_depth_[i] = image_.depth[i];
             if (image_.point[i] < 0 || barrier(i)) continue;
             const float depth = image_.depth[i];
             Ray ray;
@@ -484,30 +508,27 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
             for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius) && !is_hidden; ++qy)
               for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius) && !is_hidden; ++qx) {
                 const size_t q = image_.index(qx, qy);
-                if (image_.point[q] < 0 || !(image_.depth[q] * scale < depth)) continue;
-                const CachePoint& near = points_[size_t(image_.point[q])];
-                if (near.object == kNone || near.object >= object_to_world.size()) continue;
+                if (!has_plane_[q] || !(image_.depth[q] * scale < depth)) continue;
                 if (ray_depth == 0.0f) {
                   ray = frame.ray(float(x) + (float(image_.region[i] & 3) + 0.5f) * 0.25f,
                                   float(y) + (float(image_.region[i] >> 2) + 0.5f) * 0.25f);
                   ray_depth = glm::dot(ray.direction, frame.forward());
                 }
                 // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
-                const glm::vec3 n = glm::normalize(normal_to_world[near.object] * unpack_unit(near.normal));
-                const glm::vec3 at = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));
+                const glm::vec3& n = plane_normal_[q];
                 const float facing = glm::dot(n, ray.direction);
                 if (std::abs(facing) < 0.1f) continue;
-                const float plane_depth = glm::dot(n, at - ray.origin) / facing * ray_depth;
+                const float plane_depth = glm::dot(n, plane_at_[q] - ray.origin) / facing * ray_depth;
                 if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) continue;
                 if (clear_path(x, y, qx, qy)) is_hidden = true;
               }
-            if (is_hidden) hidden[i] = 1, ++count;
+            if (is_hidden) next_point_[i] = -1, next_depth_[i] = std::numeric_limits<float>::infinity(), ++count;
           }
         return count;
       },
       std::plus<size_t>());
-  for (size_t i = 0; i < hidden.size(); ++i)
-    if (hidden[i]) image_.point[i] = -1, image_.depth[i] = std::numeric_limits<float>::infinity();
+  image_.point.swap(next_point_);
+  image_.depth.swap(next_depth_);
   return removed;
 }
 
@@ -534,6 +555,7 @@ int PointCache::priority_age(const CachePoint& p) const {
 }
 
 void PointCache::fill_epi(EpiImage& epi) const {
+  if (settings_.reference_path) return fill_epi_reference(epi);
   if (epi.width != image_.width || epi.height != image_.height)
     throw std::invalid_argument("point cache: EPI size differs from the cache's image size");
   tbb::parallel_for(tbb::blocked_range<size_t>(0, image_.point.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {

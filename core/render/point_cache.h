@@ -46,6 +46,9 @@ struct PointCacheSettings {
   // point's mean luminance over single_sample_error, clamped to [1/4, 4]; a single result counts as
   // that error (factor 1), so refined, converged points ask later and noisy ones sooner.
   float single_sample_error = 0.25f;
+  // The straightforward implementation of project, depth_cull, cull_behind_surfaces and fill_epi
+  // (point_cache_reference.cpp): the oracle the fast path matches bit for bit (tests, benchmarks).
+  bool reference_path = false;
 };
 
 // Per-pixel edge flags (the renderer's rasterized edges of the last frame).
@@ -141,6 +144,7 @@ class PointCache {
   size_t hidden_removed() const { return hidden_removed_; }  // points whose slot a ray showed hidden
   size_t refined() const { return refined_; }                // results averaged into a point
   const PointCacheSettings& settings() const { return settings_; }
+  void use_reference_path(bool on) { settings_.reference_path = on; }  // see PointCacheSettings
   float background_depth() const { return background_depth_; }
 
  private:
@@ -157,6 +161,23 @@ class PointCache {
   void choose_evict_age(size_t needed);
   int32_t find_hidden(const ViewFrame& shot, const ShadeResult& r, const glm::vec3& last_world,
                       std::span<const glm::mat4> object_to_world) const;
+  // The reference path (PointCacheSettings::reference_path).
+  ProjectionCounts project_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull);
+  size_t depth_cull_reference(std::span<const uint8_t> edge_pixels);
+  size_t cull_behind_surfaces_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
+                                        std::span<const uint8_t> edge_pixels);
+  void fill_epi_reference(EpiImage& epi) const;
+  // The fast path's per-block partial results, kept between frames (nothing is reallocated).
+  struct PointBlock {  // kPointBlock points of the cloud
+    size_t projected = 0, expired = 0;
+    std::vector<uint32_t> ages;   // eviction order, as age_histogram_
+    std::vector<uint32_t> free;   // invalid slots, ascending
+  };
+  struct PixelBlock {  // kPixelBlock pixels of the image
+    size_t drawn = 0;
+    std::vector<uint32_t> ages;  // of the drawn points
+  };
+  void count_drawn(size_t block);
 
   PointCacheSettings settings_;
   std::vector<CachePoint> points_;
@@ -168,6 +189,16 @@ class PointCache {
   PointImage image_;
   std::vector<uint64_t> zbuffer_;  // (depth bits << 32) | point index, min wins
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull
+  bool zbuffer_empty_ = true;      // the fast path leaves zbuffer_ all kEmptyKey
+  std::vector<PointBlock> point_blocks_;
+  std::vector<PixelBlock> pixel_blocks_;
+  std::vector<int32_t> next_point_;  // depth_cull, cull_behind_surfaces: the image after the pass
+  std::vector<float> next_depth_;
+  std::vector<glm::vec3> plane_normal_, plane_at_;  // cull_behind_surfaces: drawn points' world normal and position
+  std::vector<uint8_t> has_plane_;
+  std::vector<glm::mat3> normal_to_world_;
+  std::vector<glm::mat4> to_object_;  // insert: inverse object transforms
+  std::vector<uint8_t> inverted_;
   std::vector<uint8_t> no_refine_;  // see set_refine_mask
   float background_depth_ = 1e6f;  // where background points are placed along their direction
   std::optional<ViewFrame> last_frame_;
