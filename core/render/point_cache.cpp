@@ -21,7 +21,10 @@ namespace {
 using namespace detail;
 
 constexpr float kMinLobeWidth = 0.02f;  // radians: narrower lobes age as if this wide
-constexpr size_t kPointBlock = 16384, kPixelBlock = 16384;  // the fast path's fixed work blocks
+// The fast path's fixed work units: blocks of points, square tiles and bands of rows of the image.
+constexpr size_t kPointBlock = 16384;
+constexpr int kTileSize = 64, kBandRows = 8;
+constexpr uint32_t kNoPixel = ~uint32_t(0);  // a point not drawn this frame
 
 uint32_t pack_srgb(const glm::vec3& c) {
   return uint32_t(encode_srgb8(c.r)) | uint32_t(encode_srgb8(c.g)) << 8 | uint32_t(encode_srgb8(c.b)) << 16;
@@ -92,20 +95,26 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   const int w = image_.width, h = image_.height;
   if (frame.view().width != w || frame.view().height != h)
     throw std::invalid_argument("point cache: view size differs from the cache's image size");
-  if (!zbuffer_empty_) std::fill(zbuffer_.begin(), zbuffer_.end(), kEmptyKey);
   const float znear = std::max(frame.view().camera.znear, 0.0f);
   const int max_age = settings_.max_age;
+  const int tiles_x = (w + kTileSize - 1) / kTileSize, tiles_y = (h + kTileSize - 1) / kTileSize;
+  const size_t tiles = size_t(tiles_x) * size_t(tiles_y);
+  auto tile_of = [&](uint32_t pixel) { return size_t(pixel / uint32_t(w) / kTileSize) * size_t(tiles_x) + pixel % uint32_t(w) / kTileSize; };
 
-  // Aging and projection with a z-buffer (blocks of points in parallel; the minimum key wins).
+  // 1. Aging and projection (blocks of points in parallel): each point's z-buffer key and pixel
+  // (kNoPixel: not drawn), counted per tile.
   const size_t n = points_.size();
   point_blocks_.resize((n + kPointBlock - 1) / kPointBlock);
+  key_.resize(n), pixel_.resize(n);
   tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
     PointBlock& block = point_blocks_[b];
-    block.projected = block.expired = 0;
-    block.ages.assign(kAgeBins, 0);
+    std::array<uint32_t, kAgeBins> ages{};
+    size_t projected = 0, expired = 0;
     block.free.clear();
+    block.tile_count.assign(tiles, 0);
     for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
       CachePoint& p = points_[i];
+      pixel_[i] = kNoPixel;
       if (!p.valid) {
         block.free.push_back(uint32_t(i));
         continue;
@@ -122,20 +131,24 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       }
       if (p.age > max_age) {
         p.valid = false, p.image_id = -1;
-        ++block.expired;
+        ++expired;
         block.free.push_back(uint32_t(i));
         continue;
       }
-      ++block.ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
+      ++ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
       if (!inside) continue;
       const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
       const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
       const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
-      const size_t pixel = size_t(py) * size_t(w) + size_t(px);
+      const uint32_t pixel = uint32_t(py) * uint32_t(w) + uint32_t(px);
       p.image_id = int32_t(pixel);
-      atomic_min(zbuffer_[pixel], zkey(proj.depth, rx + 4 * ry, uint32_t(i)));
-      ++block.projected;
+      key_[i] = zkey(proj.depth, rx + 4 * ry, uint32_t(i));
+      pixel_[i] = pixel;
+      ++block.tile_count[tile_of(pixel)];
+      ++projected;
     }
+    block.projected = projected, block.expired = expired;
+    block.ages.assign(ages.begin(), ages.end());
   });
   size_t projected = 0, expired = 0;
   age_histogram_.assign(kAgeBins, 0);
@@ -144,30 +157,58 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     for (size_t k = 0; k < kAgeBins; ++k) age_histogram_[k] += block.ages[k];
   }
 
-  // Unpack the z-buffer (clearing it for the next projection); without a depth cull, the drawn
-  // points' ages are counted in the same pass.
-  const size_t pixels = zbuffer_.size();
-  pixel_blocks_.resize((pixels + kPixelBlock - 1) / kPixelBlock);
-  tbb::parallel_for(size_t(0), pixel_blocks_.size(), [&](size_t b) {
-    for (size_t i = b * kPixelBlock, end = std::min(pixels, i + kPixelBlock); i != end; ++i) {
-      const uint64_t key = zbuffer_[i];
-      if (key == kEmptyKey) {
-        winners_[i] = image_.point[i] = -1;
-        image_.depth[i] = std::numeric_limits<float>::infinity();
-        continue;
-      }
-      zbuffer_[i] = kEmptyKey;
-      winners_[i] = image_.point[i] = int32_t(uint32_t(key) & kIndexMask);
-      image_.depth[i] = std::bit_cast<float>(uint32_t(key >> 32));
-      image_.region[i] = uint8_t((uint32_t(key) >> 28) & 15);
+  // 2. Binning by tile (a counting sort: tile-major, then block order): tile_begin_[t] is where
+  // tile t's keys start in binned_key_; each block's tile_count becomes its write cursor.
+  tile_begin_.assign(tiles + 1, 0);
+  for (size_t t = 0; t < tiles; ++t) {
+    uint32_t at = tile_begin_[t];
+    for (PointBlock& block : point_blocks_) {
+      const uint32_t count = block.tile_count[t];
+      block.tile_count[t] = at;
+      at += count;
     }
-    if (!depth_cull) count_drawn(b);
+    tile_begin_[t + 1] = at;
+  }
+  binned_key_.resize(projected), binned_pixel_.resize(projected);
+  tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
+    PointBlock& block = point_blocks_[b];
+    for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
+      if (pixel_[i] == kNoPixel) continue;
+      const uint32_t at = block.tile_count[tile_of(pixel_[i])]++;
+      binned_key_[at] = key_[i], binned_pixel_[at] = pixel_[i];
+    }
   });
-  zbuffer_empty_ = true;
+
+  // 3. Per tile (in parallel; a tile owns its pixels): the z-buffer's minimum keys, unpacked into
+  // the image; without a depth cull, the drawn points' ages are counted in the same pass.
+  tile_blocks_.resize(tiles);
+  tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
+    const int x0 = int(t % size_t(tiles_x)) * kTileSize, y0 = int(t / size_t(tiles_x)) * kTileSize;
+    const int x1 = std::min(w, x0 + kTileSize), y1 = std::min(h, y0 + kTileSize);
+    for (int y = y0; y < y1; ++y) std::fill(&zbuffer_[image_.index(x0, y)], &zbuffer_[image_.index(x0, y)] + (x1 - x0), kEmptyKey);
+    for (uint32_t k = tile_begin_[t]; k != tile_begin_[t + 1]; ++k)
+      zbuffer_[binned_pixel_[k]] = std::min(zbuffer_[binned_pixel_[k]], binned_key_[k]);
+    for (int y = y0; y < y1; ++y)
+      for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i) {
+        const uint64_t key = zbuffer_[i];
+        if (key == kEmptyKey) {
+          winners_[i] = image_.point[i] = -1;
+          image_.depth[i] = std::numeric_limits<float>::infinity();
+          continue;
+        }
+        winners_[i] = image_.point[i] = int32_t(uint32_t(key) & kIndexMask);
+        image_.depth[i] = std::bit_cast<float>(uint32_t(key >> 32));
+        image_.region[i] = uint8_t((uint32_t(key) >> 28) & 15);
+      }
+    if (!depth_cull) count_drawn(t, x0, y0, x1, y1);
+  });
   size_t culled = 0;
   if (depth_cull) {
     culled = this->depth_cull({});
-    tbb::parallel_for(size_t(0), pixel_blocks_.size(), [&](size_t b) { count_drawn(b); });
+    tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
+      const int x0 = int(t % size_t(tiles_x)) * kTileSize, y0 = int(t / size_t(tiles_x)) * kTileSize;
+      count_drawn(t, x0, y0, std::min(w, x0 + kTileSize), std::min(h, y0 + kTileSize));
+    });
   }
 
   // Free the slots of expired points (all free slots, in descending order).
@@ -177,7 +218,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       free_slots_.insert(free_slots_.end(), point_blocks_[b].free.rbegin(), point_blocks_[b].free.rend());
   }
   size_t drawn = 0;
-  for (const PixelBlock& block : pixel_blocks_) {
+  for (const TileBlock& block : tile_blocks_) {
     drawn += block.drawn;
     age_histogram_[kAgeBins - 1] -= uint32_t(block.drawn);
     for (size_t k = 0; k + 1 < kAgeBins; ++k) age_histogram_[k] += block.ages[k];
@@ -187,12 +228,14 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   return {projected, drawn, culled, 0, expired};
 }
 
-void PointCache::count_drawn(size_t b) {
-  PixelBlock& block = pixel_blocks_[b];
-  block.drawn = 0;
-  block.ages.assign(kAgeBins, 0);
-  for (size_t i = b * kPixelBlock, end = std::min(image_.point.size(), i + kPixelBlock); i != end; ++i)
-    if (const int32_t q = image_.point[i]; q >= 0) ++block.drawn, ++block.ages[std::min<size_t>(points_[size_t(q)].age, kAgeBins - 2)];
+void PointCache::count_drawn(size_t tile, int x0, int y0, int x1, int y1) {
+  std::array<uint32_t, kAgeBins> ages{};
+  size_t drawn = 0;
+  for (int y = y0; y < y1; ++y)
+    for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i)
+      if (const int32_t q = image_.point[i]; q >= 0) ++drawn, ++ages[std::min<size_t>(points_[size_t(q)].age, kAgeBins - 2)];
+  tile_blocks_[tile].drawn = drawn;
+  tile_blocks_[tile].ages.assign(ages.begin(), ages.end());
 }
 
 bool PointCache::drawn(size_t slot) const {
@@ -213,35 +256,25 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
     return false;
   };
   const float cull_scale = 1.0f + settings_.depth_cull_offset;
-  // The means see the z-buffer's winners: the culled image goes to next_point_ / next_depth_.
-  next_point_.resize(image_.point.size());
-  next_depth_.resize(image_.depth.size());
-  const size_t culled = tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, h, 8), size_t(0),
-      [&](const tbb::blocked_range<int>& rows, size_t count) {
-        for (int y = rows.begin(); y != rows.end(); ++y)
-          for (int x = 0; x < w; ++x) {
-            const size_t i = image_.index(x, y);
-            next_point_[i] = image_.point[i], next_depth_[i] = image_.depth[i];
-            if (image_.point[i] < 0 || protected_pixel(x, y)) continue;
-            double sum = 0.0;
-            int n = 0;
-            for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
-              for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx) {
-                const size_t q = image_.index(qx, qy);
-                if (image_.point[q] < 0) continue;
-                sum += image_.depth[q];
-                ++n;
-              }
-            if (image_.depth[i] > float(sum / n) * cull_scale)
-              next_point_[i] = -1, next_depth_[i] = std::numeric_limits<float>::infinity(), ++count;
+  // The means see the z-buffer's winners: culled pixels are listed per band, removed after.
+  for_bands(h, [&](int y0, int y1, std::vector<uint32_t>& culled) {
+    for (int y = y0; y != y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = image_.index(x, y);
+        if (image_.point[i] < 0 || protected_pixel(x, y)) continue;
+        double sum = 0.0;
+        int n = 0;
+        for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
+          for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx) {
+            const size_t q = image_.index(qx, qy);
+            if (image_.point[q] < 0) continue;
+            sum += image_.depth[q];
+            ++n;
           }
-        return count;
-      },
-      std::plus<size_t>());
-  image_.point.swap(next_point_);
-  image_.depth.swap(next_depth_);
-  return culled;
+        if (image_.depth[i] > float(sum / n) * cull_scale) culled.push_back(uint32_t(i));
+      }
+  });
+  return remove_listed();
 }
 
 size_t PointCache::take_slot() {
@@ -466,19 +499,9 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   // Normals back to world space: the inverse transpose of each object's matrix.
   normal_to_world_.resize(object_to_world.size());
   for (size_t o = 0; o < object_to_world.size(); ++o) normal_to_world_[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
-  // Each drawn point's tangent plane in the world, once per pixel (not once per neighbour).
-  const size_t pixels = image_.point.size();
-  plane_normal_.resize(pixels), plane_at_.resize(pixels), has_plane_.resize(pixels);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 16384), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const int32_t q = image_.point[i];
-      has_plane_[i] = q >= 0 && points_[size_t(q)].object != kNone && points_[size_t(q)].object < object_to_world.size();
-      if (!has_plane_[i]) continue;
-      const CachePoint& near = points_[size_t(q)];
-      plane_normal_[i] = glm::normalize(normal_to_world_[near.object] * unpack_unit(near.normal));
-      plane_at_[i] = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));
-    }
-  });
+  // The nearest depth in each pixel's window: a pixel with no neighbour nearer by the margin
+  // (most of them) is skipped without looking at its neighbours.
+  window_min_depth(radius);
   // A pixel q is seen from p without crossing an edge when no barrier pixel lies on the segment
   // between their centres (sampled every half pixel), q itself included.
   auto clear_path = [&](int px, int py, int qx, int qy) {
@@ -490,45 +513,81 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
     }
     return true;
   };
-  // The test sees the image before the pass: the result goes to next_point_ / next_depth_.
-  next_point_.resize(pixels);
-  next_depth_.resize(pixels);
-  const size_t removed = tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, h, 8), size_t(0),
-      [&](const tbb::blocked_range<int>& rows, size_t count) {
-        for (int y = rows.begin(); y != rows.end(); ++y)
-          for (int x = 0; x < w; ++x) {
-            const size_t i = image_.index(x, y);
-            next_point_[i] = image_.point[i], next_depth_[i] = image_.depth[i];
-            if (image_.point[i] < 0 || barrier(i)) continue;
-            const float depth = image_.depth[i];
-            Ray ray;
-            float ray_depth = 0.0f;  // depth per unit along the ray; the ray is made when first needed
-            bool is_hidden = false;
-            for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius) && !is_hidden; ++qy)
-              for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius) && !is_hidden; ++qx) {
-                const size_t q = image_.index(qx, qy);
-                if (!has_plane_[q] || !(image_.depth[q] * scale < depth)) continue;
-                if (ray_depth == 0.0f) {
-                  ray = frame.ray(float(x) + (float(image_.region[i] & 3) + 0.5f) * 0.25f,
-                                  float(y) + (float(image_.region[i] >> 2) + 0.5f) * 0.25f);
-                  ray_depth = glm::dot(ray.direction, frame.forward());
-                }
-                // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
-                const glm::vec3& n = plane_normal_[q];
-                const float facing = glm::dot(n, ray.direction);
-                if (std::abs(facing) < 0.1f) continue;
-                const float plane_depth = glm::dot(n, plane_at_[q] - ray.origin) / facing * ray_depth;
-                if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) continue;
-                if (clear_path(x, y, qx, qy)) is_hidden = true;
-              }
-            if (is_hidden) next_point_[i] = -1, next_depth_[i] = std::numeric_limits<float>::infinity(), ++count;
+  // The test sees the image before the pass: hidden pixels are listed per band, removed after.
+  for_bands(h, [&](int y0, int y1, std::vector<uint32_t>& hidden) {
+    for (int y = y0; y != y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = image_.index(x, y);
+        const float depth = image_.depth[i];
+        if (!(min_depth_[i] * scale < depth) || image_.point[i] < 0 || barrier(i)) continue;
+        Ray ray;
+        float ray_depth = 0.0f;  // depth per unit along the ray; the ray is made when first needed
+        bool is_hidden = false;
+        for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius) && !is_hidden; ++qy)
+          for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius) && !is_hidden; ++qx) {
+            const size_t q = image_.index(qx, qy);
+            if (image_.point[q] < 0 || !(image_.depth[q] * scale < depth)) continue;
+            const CachePoint& near = points_[size_t(image_.point[q])];
+            if (near.object == kNone || near.object >= object_to_world.size()) continue;
+            if (ray_depth == 0.0f) {
+              ray = frame.ray(float(x) + (float(image_.region[i] & 3) + 0.5f) * 0.25f,
+                              float(y) + (float(image_.region[i] >> 2) + 0.5f) * 0.25f);
+              ray_depth = glm::dot(ray.direction, frame.forward());
+            }
+            // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
+            const glm::vec3 n = glm::normalize(normal_to_world_[near.object] * unpack_unit(near.normal));
+            const glm::vec3 at = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));
+            const float facing = glm::dot(n, ray.direction);
+            if (std::abs(facing) < 0.1f) continue;
+            const float plane_depth = glm::dot(n, at - ray.origin) / facing * ray_depth;
+            if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) continue;
+            if (clear_path(x, y, qx, qy)) is_hidden = true;
           }
-        return count;
-      },
-      std::plus<size_t>());
-  image_.point.swap(next_point_);
-  image_.depth.swap(next_depth_);
+        if (is_hidden) hidden.push_back(uint32_t(i));
+      }
+  });
+  return remove_listed();
+}
+
+void PointCache::window_min_depth(int radius) {
+  const int w = image_.width, h = image_.height;
+  row_min_depth_.resize(image_.depth.size());
+  min_depth_.resize(image_.depth.size());
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y)
+      for (int x = 0; x < w; ++x) {
+        float m = std::numeric_limits<float>::infinity();
+        for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius); ++qx) m = std::min(m, image_.depth[image_.index(qx, y)]);
+        row_min_depth_[image_.index(x, y)] = m;
+      }
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y) {
+      float* out = &min_depth_[image_.index(0, y)];
+      std::fill(out, out + w, std::numeric_limits<float>::infinity());
+      for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius); ++qy) {
+        const float* in = &row_min_depth_[image_.index(0, qy)];
+        for (int x = 0; x < w; ++x) out[x] = std::min(out[x], in[x]);
+      }
+    }
+  });
+}
+
+template <class BandPass>
+void PointCache::for_bands(int height, const BandPass& pass) {
+  band_lists_.resize(size_t((height + kBandRows - 1) / kBandRows));
+  tbb::parallel_for(size_t(0), band_lists_.size(), [&](size_t b) {
+    band_lists_[b].clear();
+    pass(int(b) * kBandRows, std::min(height, int(b + 1) * kBandRows), band_lists_[b]);
+  });
+}
+
+size_t PointCache::remove_listed() {
+  size_t removed = 0;
+  for (const std::vector<uint32_t>& list : band_lists_) {
+    for (const uint32_t i : list) image_.point[i] = -1, image_.depth[i] = std::numeric_limits<float>::infinity();
+    removed += list.size();
+  }
   return removed;
 }
 

@@ -170,14 +170,21 @@ class PointCache {
   // The fast path's per-block partial results, kept between frames (nothing is reallocated).
   struct PointBlock {  // kPointBlock points of the cloud
     size_t projected = 0, expired = 0;
-    std::vector<uint32_t> ages;   // eviction order, as age_histogram_
-    std::vector<uint32_t> free;   // invalid slots, ascending
+    std::vector<uint32_t> ages;        // eviction order, as age_histogram_
+    std::vector<uint32_t> free;        // invalid slots, ascending
+    std::vector<uint32_t> tile_count;  // points drawn per tile, then the binning's write cursor
   };
-  struct PixelBlock {  // kPixelBlock pixels of the image
+  struct TileBlock {  // a kTileSize^2 tile of the image
     size_t drawn = 0;
     std::vector<uint32_t> ages;  // of the drawn points
   };
-  void count_drawn(size_t block);
+  void count_drawn(size_t tile, int x0, int y0, int x1, int y1);
+  void window_min_depth(int radius);  // min_depth_: the least depth over each pixel's (2r+1)^2 window
+  // Runs pass(first row, end row, list) over bands of rows in parallel, each with its own cleared
+  // list in band_lists_; remove_listed() then empties the listed pixels and counts them.
+  template <class BandPass>
+  void for_bands(int height, const BandPass& pass);
+  size_t remove_listed();
 
   PointCacheSettings settings_;
   std::vector<CachePoint> points_;
@@ -189,13 +196,15 @@ class PointCache {
   PointImage image_;
   std::vector<uint64_t> zbuffer_;  // (depth bits << 32) | point index, min wins
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull
-  bool zbuffer_empty_ = true;      // the fast path leaves zbuffer_ all kEmptyKey
   std::vector<PointBlock> point_blocks_;
-  std::vector<PixelBlock> pixel_blocks_;
-  std::vector<int32_t> next_point_;  // depth_cull, cull_behind_surfaces: the image after the pass
-  std::vector<float> next_depth_;
-  std::vector<glm::vec3> plane_normal_, plane_at_;  // cull_behind_surfaces: drawn points' world normal and position
-  std::vector<uint8_t> has_plane_;
+  std::vector<TileBlock> tile_blocks_;
+  std::vector<uint64_t> key_;     // per point: its z-buffer key this frame ...
+  std::vector<uint32_t> pixel_;   // ... and pixel (kNoPixel: none)
+  std::vector<uint32_t> tile_begin_;  // the points of tile t: binned_*[tile_begin_[t], tile_begin_[t + 1])
+  std::vector<uint64_t> binned_key_;
+  std::vector<uint32_t> binned_pixel_;
+  std::vector<std::vector<uint32_t>> band_lists_;  // depth_cull, cull_behind_surfaces: pixels to empty
+  std::vector<float> row_min_depth_, min_depth_;    // window_min_depth
   std::vector<glm::mat3> normal_to_world_;
   std::vector<glm::mat4> to_object_;  // insert: inverse object transforms
   std::vector<uint8_t> inverted_;

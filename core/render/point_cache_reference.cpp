@@ -23,7 +23,6 @@ ProjectionCounts PointCache::project_reference(const ViewFrame& frame, std::span
   if (frame.view().width != w || frame.view().height != h)
     throw std::invalid_argument("point cache: view size differs from the cache's image size");
   std::fill(zbuffer_.begin(), zbuffer_.end(), kEmptyKey);
-  zbuffer_empty_ = false;  // left full (the fast path clears it as it reads it)
   const float znear = std::max(frame.view().camera.znear, 0.0f);
   const int max_age = settings_.max_age;
 
