@@ -30,6 +30,11 @@ uint32_t pack_srgb(const glm::vec3& c) {
   return uint32_t(encode_srgb8(c.r)) | uint32_t(encode_srgb8(c.g)) << 8 | uint32_t(encode_srgb8(c.b)) << 16;
 }
 
+uint32_t pack_srgb_by_steps(const glm::vec3& c) {
+  return uint32_t(encode_srgb8_by_steps(c.r)) | uint32_t(encode_srgb8_by_steps(c.g)) << 8 |
+         uint32_t(encode_srgb8_by_steps(c.b)) << 16;
+}
+
 // Octahedral unit vector packing, 16 bits per coordinate.
 uint32_t pack_unit(glm::vec3 n) {
   const float l1 = std::abs(n.x) + std::abs(n.y) + std::abs(n.z);
@@ -50,6 +55,26 @@ bool shading_changed(const glm::vec3& before, const glm::vec3& after, float thre
 }
 
 }  // namespace
+
+uint8_t encode_srgb8_by_steps(float linear) {
+  // steps[k]: the least float that encodes to k or more, by bisection over float bit patterns.
+  static const std::array<float, 256> steps = [] {
+    std::array<float, 256> t{};
+    for (int k = 1; k < 256; ++k) {
+      uint32_t below = 0, at = std::bit_cast<uint32_t>(1.0f);  // encode_srgb8(0) = 0, encode_srgb8(1) = 255
+      while (at - below > 1) {
+        const uint32_t mid = below + (at - below) / 2;
+        (encode_srgb8(std::bit_cast<float>(mid)) >= k ? at : below) = mid;
+      }
+      t[size_t(k)] = std::bit_cast<float>(at);
+    }
+    return t;
+  }();
+  int k = 0;
+  for (int step = 128; step >= 1; step >>= 1)
+    if (steps[size_t(k + step)] <= linear) k += step;
+  return uint8_t(k);
+}
 
 PointCache::PointCache(int width, int height, const PointCacheSettings& settings) : settings_(settings) {
   if (width <= 0 || height <= 0) throw std::invalid_argument("point cache: image size is not positive");
@@ -591,12 +616,13 @@ size_t PointCache::remove_listed() {
   return removed;
 }
 
-uint32_t PointCache::display_srgb(const CachePoint& p) const {
+uint32_t PointCache::display_srgb(const CachePoint& p, bool by_steps) const {
   const float staleness = float(p.staleness) / 16.0f;
   if (staleness <= settings_.view_fade_start) return p.srgb;
   const float fade = std::clamp((staleness - settings_.view_fade_start) /
                                     std::max(settings_.view_fade_end - settings_.view_fade_start, 1e-3f), 0.0f, 1.0f);
-  return pack_srgb(p.color - p.view_dependent * fade);
+  const glm::vec3 shown = p.color - p.view_dependent * fade;
+  return by_steps ? pack_srgb_by_steps(shown) : pack_srgb(shown);
 }
 
 int PointCache::priority_age(const CachePoint& p) const {
@@ -627,7 +653,7 @@ void PointCache::fill_epi(EpiImage& epi) const {
       }
       const CachePoint& point = points_[size_t(p)];
       epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
-      epi.color[i] = display_srgb(point) | uint32_t(std::min<int>(priority_age(point), 255)) << bits::kAgeShift;
+      epi.color[i] = display_srgb(point, true) | uint32_t(std::min<int>(priority_age(point), 255)) << bits::kAgeShift;
     }
   });
 }

@@ -91,6 +91,10 @@ struct ProjectionCounts {
   size_t expired = 0;    // points freed for exceeding the maximum age
 };
 
+// encode_srgb8 (epi_pixel.h) without its pow: a search of the 255 steps' least floats, found
+// once with encode_srgb8 itself. Equal to it for every float (docs/performance.md, "Point processing").
+uint8_t encode_srgb8_by_steps(float linear);
+
 class PointCache {
  public:
   PointCache(int width, int height, const PointCacheSettings& settings = {});
@@ -155,7 +159,8 @@ class PointCache {
   static float view_share(const CachePoint& p);
   bool refines(const CachePoint& cached, const CachePoint& result) const;
   int priority_age(const CachePoint& p) const;
-  uint32_t display_srgb(const CachePoint& p) const;  // srgb, less the view-dependent part as it goes stale
+  // srgb, less the view-dependent part as it goes stale; by_steps: encoded with encode_srgb8_by_steps
+  uint32_t display_srgb(const CachePoint& p, bool by_steps = false) const;
   size_t take_slot();
   bool drawn(size_t slot) const;  // the point is the one drawn at its pixel in the last projection
   void choose_evict_age(size_t needed);
