@@ -130,7 +130,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   // (kNoPixel: not drawn), counted per tile.
   const size_t n = points_.size();
   point_blocks_.resize((n + kPointBlock - 1) / kPointBlock);
-  key_.resize(n), pixel_.resize(n);
+  key_.resize(n), pixel_.resize(n), word_.resize(n);
   tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
     PointBlock& block = point_blocks_[b];
     std::array<uint32_t, kAgeBins> ages{};
@@ -169,6 +169,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       p.image_id = int32_t(pixel);
       key_[i] = zkey(proj.depth, rx + 4 * ry, uint32_t(i));
       pixel_[i] = pixel;
+      word_[i] = epi_color_word(p);
       ++block.tile_count[tile_of(pixel)];
       ++projected;
     }
@@ -194,25 +195,26 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     }
     tile_begin_[t + 1] = at;
   }
-  binned_key_.resize(projected), binned_pixel_.resize(projected);
+  binned_key_.resize(projected), binned_pixel_.resize(projected), binned_word_.resize(projected);
   tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
     PointBlock& block = point_blocks_[b];
     for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
       if (pixel_[i] == kNoPixel) continue;
       const uint32_t at = block.tile_count[tile_of(pixel_[i])]++;
-      binned_key_[at] = key_[i], binned_pixel_[at] = pixel_[i];
+      binned_key_[at] = key_[i], binned_pixel_[at] = pixel_[i], binned_word_[at] = word_[i];
     }
   });
 
   // 3. Per tile (in parallel; a tile owns its pixels): the z-buffer's minimum keys, unpacked into
   // the image; without a depth cull, the drawn points' ages are counted in the same pass.
   tile_blocks_.resize(tiles);
+  pixel_word_.resize(zbuffer_.size());
   tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
     const int x0 = int(t % size_t(tiles_x)) * kTileSize, y0 = int(t / size_t(tiles_x)) * kTileSize;
     const int x1 = std::min(w, x0 + kTileSize), y1 = std::min(h, y0 + kTileSize);
     for (int y = y0; y < y1; ++y) std::fill(&zbuffer_[image_.index(x0, y)], &zbuffer_[image_.index(x0, y)] + (x1 - x0), kEmptyKey);
     for (uint32_t k = tile_begin_[t]; k != tile_begin_[t + 1]; ++k)
-      zbuffer_[binned_pixel_[k]] = std::min(zbuffer_[binned_pixel_[k]], binned_key_[k]);
+      if (binned_key_[k] < zbuffer_[binned_pixel_[k]]) zbuffer_[binned_pixel_[k]] = binned_key_[k], pixel_word_[binned_pixel_[k]] = binned_word_[k];
     for (int y = y0; y < y1; ++y)
       for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i) {
         const uint64_t key = zbuffer_[i];
@@ -250,6 +252,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   }
   last_frame_.emplace(frame);
   last_transforms_.assign(object_to_world.begin(), object_to_world.end());
+  pixel_words_current_ = true;
   return {projected, drawn, culled, 0, expired};
 }
 
@@ -403,6 +406,7 @@ int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, con
 
 size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::span<const glm::mat4> object_to_world,
                           uint16_t epoch) {
+  pixel_words_current_ = false;  // ages and colours may change
   to_object_.resize(object_to_world.size());
   inverted_.assign(object_to_world.size(), 0);
   const int w = image_.width, h = image_.height;
@@ -651,11 +655,14 @@ void PointCache::fill_epi(EpiImage& epi) const {
         epi.color[i] = 0;
         continue;
       }
-      const CachePoint& point = points_[size_t(p)];
       epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
-      epi.color[i] = display_srgb(point, true) | uint32_t(std::min<int>(priority_age(point), 255)) << bits::kAgeShift;
+      epi.color[i] = pixel_words_current_ ? pixel_word_[i] : epi_color_word(points_[size_t(p)]);
     }
   });
+}
+
+uint32_t PointCache::epi_color_word(const CachePoint& p) const {
+  return display_srgb(p, true) | uint32_t(std::min<int>(priority_age(p), 255)) << bits::kAgeShift;
 }
 
 }  // namespace epi::render

@@ -148,7 +148,7 @@ class PointCache {
   size_t hidden_removed() const { return hidden_removed_; }  // points whose slot a ray showed hidden
   size_t refined() const { return refined_; }                // results averaged into a point
   const PointCacheSettings& settings() const { return settings_; }
-  void use_reference_path(bool on) { settings_.reference_path = on; }  // see PointCacheSettings
+  void use_reference_path(bool on) { settings_.reference_path = on, pixel_words_current_ = false; }  // see PointCacheSettings
   float background_depth() const { return background_depth_; }
 
  private:
@@ -184,6 +184,7 @@ class PointCache {
     std::vector<uint32_t> ages;  // of the drawn points
   };
   void count_drawn(size_t tile, int x0, int y0, int x1, int y1);
+  uint32_t epi_color_word(const CachePoint& p) const;  // fill_epi's colour word: display colour and priority age
   void window_min_depth(int radius);  // min_depth_: the least depth over each pixel's (2r+1)^2 window
   // Runs pass(first row, end row, list) over bands of rows in parallel, each with its own cleared
   // list in band_lists_; remove_listed() then empties the listed pixels and counts them.
@@ -206,8 +207,13 @@ class PointCache {
   std::vector<uint64_t> key_;     // per point: its z-buffer key this frame ...
   std::vector<uint32_t> pixel_;   // ... and pixel (kNoPixel: none)
   std::vector<uint32_t> tile_begin_;  // the points of tile t: binned_*[tile_begin_[t], tile_begin_[t + 1])
+  std::vector<uint32_t> word_;     // ... and EPI colour word
   std::vector<uint64_t> binned_key_;
-  std::vector<uint32_t> binned_pixel_;
+  std::vector<uint32_t> binned_pixel_, binned_word_;
+  // The EPI colour word of each pixel's z-buffer winner, made while the projection streams the
+  // cloud (fill_epi then reads no point); current until an insert changes points.
+  std::vector<uint32_t> pixel_word_;
+  bool pixel_words_current_ = false;
   std::vector<std::vector<uint32_t>> band_lists_;  // depth_cull, cull_behind_surfaces: pixels to empty
   std::vector<float> row_min_depth_, min_depth_;    // window_min_depth
   std::vector<glm::mat3> normal_to_world_;
