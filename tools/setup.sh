@@ -14,6 +14,7 @@ packages=(
   libtinygltf-dev nlohmann-json3-dev libhwy-dev libgtest-dev libbenchmark-dev libimgui-dev
   libcli11-dev xvfb libgl-dev libgl1-mesa-dri mesa-utils libcairo2-dev libgif-dev libpng-dev xdotool
   clang libclang-rt-14-dev  # the sanitizer and fuzz builds of tools/test.sh
+  python3-matplotlib  # bench/ plots (run with /usr/bin/python3: Debian's, not a pyenv one)
 )
 missing=()
 for p in "${packages[@]}"; do
