@@ -130,7 +130,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   // (kNoPixel: not drawn), counted per tile.
   const size_t n = points_.size();
   point_blocks_.resize((n + kPointBlock - 1) / kPointBlock);
-  key_.resize(n), pixel_.resize(n), word_.resize(n);
+  key_.resize(n), pixel_.resize(n), word_.resize(n), age_bin_.resize(n);
   tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
     PointBlock& block = point_blocks_[b];
     std::array<uint32_t, kAgeBins> ages{};
@@ -170,6 +170,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       key_[i] = zkey(proj.depth, rx + 4 * ry, uint32_t(i));
       pixel_[i] = pixel;
       word_[i] = epi_color_word(p);
+      age_bin_[i] = uint16_t(std::min<size_t>(p.age, kAgeBins - 2));
       ++block.tile_count[tile_of(pixel)];
       ++projected;
     }
@@ -195,26 +196,27 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     }
     tile_begin_[t + 1] = at;
   }
-  binned_key_.resize(projected), binned_pixel_.resize(projected), binned_word_.resize(projected);
+  binned_key_.resize(projected), binned_pixel_.resize(projected), binned_word_.resize(projected), binned_age_bin_.resize(projected);
   tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
     PointBlock& block = point_blocks_[b];
     for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
       if (pixel_[i] == kNoPixel) continue;
       const uint32_t at = block.tile_count[tile_of(pixel_[i])]++;
-      binned_key_[at] = key_[i], binned_pixel_[at] = pixel_[i], binned_word_[at] = word_[i];
+      binned_key_[at] = key_[i], binned_pixel_[at] = pixel_[i], binned_word_[at] = word_[i], binned_age_bin_[at] = age_bin_[i];
     }
   });
 
   // 3. Per tile (in parallel; a tile owns its pixels): the z-buffer's minimum keys, unpacked into
   // the image; without a depth cull, the drawn points' ages are counted in the same pass.
   tile_blocks_.resize(tiles);
-  pixel_word_.resize(zbuffer_.size());
+  pixel_word_.resize(zbuffer_.size()), pixel_age_bin_.resize(zbuffer_.size());
   tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
     const int x0 = int(t % size_t(tiles_x)) * kTileSize, y0 = int(t / size_t(tiles_x)) * kTileSize;
     const int x1 = std::min(w, x0 + kTileSize), y1 = std::min(h, y0 + kTileSize);
     for (int y = y0; y < y1; ++y) std::fill(&zbuffer_[image_.index(x0, y)], &zbuffer_[image_.index(x0, y)] + (x1 - x0), kEmptyKey);
     for (uint32_t k = tile_begin_[t]; k != tile_begin_[t + 1]; ++k)
-      if (binned_key_[k] < zbuffer_[binned_pixel_[k]]) zbuffer_[binned_pixel_[k]] = binned_key_[k], pixel_word_[binned_pixel_[k]] = binned_word_[k];
+      if (const uint32_t pixel = binned_pixel_[k]; binned_key_[k] < zbuffer_[pixel])
+        zbuffer_[pixel] = binned_key_[k], pixel_word_[pixel] = binned_word_[k], pixel_age_bin_[pixel] = binned_age_bin_[k];
     for (int y = y0; y < y1; ++y)
       for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i) {
         const uint64_t key = zbuffer_[i];
@@ -261,7 +263,7 @@ void PointCache::count_drawn(size_t tile, int x0, int y0, int x1, int y1) {
   size_t drawn = 0;
   for (int y = y0; y < y1; ++y)
     for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i)
-      if (const int32_t q = image_.point[i]; q >= 0) ++drawn, ++ages[std::min<size_t>(points_[size_t(q)].age, kAgeBins - 2)];
+      if (image_.point[i] >= 0) ++drawn, ++ages[pixel_age_bin_[i]];
   tile_blocks_[tile].drawn = drawn;
   tile_blocks_[tile].ages.assign(ages.begin(), ages.end());
 }

@@ -207,9 +207,11 @@ class PointCache {
   std::vector<uint64_t> key_;     // per point: its z-buffer key this frame ...
   std::vector<uint32_t> pixel_;   // ... and pixel (kNoPixel: none)
   std::vector<uint32_t> tile_begin_;  // the points of tile t: binned_*[tile_begin_[t], tile_begin_[t + 1])
-  std::vector<uint32_t> word_;     // ... and EPI colour word
+  std::vector<uint32_t> word_;     // ... EPI colour word
+  std::vector<uint16_t> age_bin_;  // ... and age histogram bin
   std::vector<uint64_t> binned_key_;
   std::vector<uint32_t> binned_pixel_, binned_word_;
+  std::vector<uint16_t> binned_age_bin_, pixel_age_bin_;  // the latter: of each pixel's z-buffer winner
   // The EPI colour word of each pixel's z-buffer winner, made while the projection streams the
   // cloud (fill_epi then reads no point); current until an insert changes points.
   std::vector<uint32_t> pixel_word_;
