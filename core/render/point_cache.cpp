@@ -286,12 +286,15 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
     return false;
   };
   const float cull_scale = 1.0f + settings_.depth_cull_offset;
+  // The 3x3 mean is at least the 3x3 minimum (also as rounded), so a pixel no deeper than the
+  // minimum x (1 + offset) (most of them) keeps its point without the mean.
+  window_min_depth(1);
   // The means see the z-buffer's winners: culled pixels are listed per band, removed after.
   for_bands(h, [&](int y0, int y1, std::vector<uint32_t>& culled) {
     for (int y = y0; y != y1; ++y)
       for (int x = 0; x < w; ++x) {
         const size_t i = image_.index(x, y);
-        if (image_.point[i] < 0 || protected_pixel(x, y)) continue;
+        if (!(image_.depth[i] > min_depth_[i] * cull_scale) || image_.point[i] < 0) continue;
         double sum = 0.0;
         int n = 0;
         for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
@@ -301,7 +304,7 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
             sum += image_.depth[q];
             ++n;
           }
-        if (image_.depth[i] > float(sum / n) * cull_scale) culled.push_back(uint32_t(i));
+        if (image_.depth[i] > float(sum / n) * cull_scale && !protected_pixel(x, y)) culled.push_back(uint32_t(i));
       }
   });
   return remove_listed();
