@@ -39,7 +39,7 @@ def main(paths):
         print(f"| {scene} | {size} | {mode} | {args[4]} | " + " | ".join(cells) +
               f" | {b['speedup']:.1f}x | {b['points'] / 1e3:.0f}k |")
     if load:
-        print(f"\nLoad average at the end of the run (1, 5, 15 min): {', '.join(f'{x:.1f}' for x in load)}.")
+        print(f"\nLoad average when the run started (1, 5, 15 min): {', '.join(f'{x:.1f}' for x in load)}.")
 
 
 if __name__ == "__main__":

@@ -204,17 +204,19 @@ class PointCache {
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull
   std::vector<PointBlock> point_blocks_;
   std::vector<TileBlock> tile_blocks_;
-  std::vector<uint64_t> key_;     // per point: its z-buffer key this frame ...
-  std::vector<uint32_t> pixel_;   // ... and pixel (kNoPixel: none)
-  std::vector<uint32_t> tile_begin_;  // the points of tile t: binned_*[tile_begin_[t], tile_begin_[t + 1])
-  std::vector<uint32_t> word_;     // ... EPI colour word
-  std::vector<uint16_t> age_bin_;  // ... and age histogram bin
+  // Per point, this frame: z-buffer key, pixel (kNoPixel: none), EPI colour word, age histogram bin.
+  std::vector<uint64_t> key_;
+  std::vector<uint32_t> pixel_, word_;
+  std::vector<uint16_t> age_bin_;
+  // The same, binned by tile: tile t's are binned_*[tile_begin_[t], tile_begin_[t + 1]).
+  std::vector<uint32_t> tile_begin_;
   std::vector<uint64_t> binned_key_;
   std::vector<uint32_t> binned_pixel_, binned_word_;
-  std::vector<uint16_t> binned_age_bin_, pixel_age_bin_;  // the latter: of each pixel's z-buffer winner
-  // The EPI colour word of each pixel's z-buffer winner, made while the projection streams the
-  // cloud (fill_epi then reads no point); current until an insert changes points.
+  std::vector<uint16_t> binned_age_bin_;
+  // The EPI colour word and age bin of each pixel's z-buffer winner, made while the projection
+  // streams the cloud (fill_epi then reads no point); the words are current until an insert.
   std::vector<uint32_t> pixel_word_;
+  std::vector<uint16_t> pixel_age_bin_;
   bool pixel_words_current_ = false;
   std::vector<std::vector<uint32_t>> band_lists_;  // depth_cull, cull_behind_surfaces: pixels to empty
   std::vector<float> row_min_depth_, min_depth_;    // window_min_depth
