@@ -7,6 +7,8 @@
 //   colour    the drawn point is the right surface, its colour is off (stale or noisy shading)
 //   near      no point drawn; a hidden point is drawn within 2 pixels
 //   other     no point drawn, none hidden near (reconstruction, holes)
+// With --out, each run also writes RUN_causes.png: pixels off by more than 0.1 coloured by cause
+// (hidden red, colour yellow, near hidden magenta, other blue) over the dimmed frame.
 // Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--out DIR] SCENE.gltf...
 #include <algorithm>
 #include <cmath>
@@ -73,6 +75,13 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
   Run r;
   double squared = 0.0;
   const int n = o.size;
+  // The causes as a picture: the frame dimmed, each pixel off by more than 0.1 coloured by cause
+  // (hidden red, colour yellow, near hidden magenta, other blue).
+  RgbImage causes = image;
+  for (float& v : causes.pixels) v *= 0.25f;
+  auto mark = [&](size_t i, float r_, float g, float b) {
+    causes.pixels[3 * i] = r_, causes.pixels[3 * i + 1] = g, causes.pixels[3 * i + 2] = b;
+  };
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
       const size_t i = size_t(y) * size_t(n) + size_t(x);
@@ -84,7 +93,9 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
       r.over01 += worst > 0.1, r.over02 += worst > 0.2;
       if (worst <= 0.1) continue;
       if (drawn.point[i] >= 0) {
-        (hidden_at(i) ? r.hidden : r.colour) += 1;
+        const bool hidden = hidden_at(i);
+        (hidden ? r.hidden : r.colour) += 1;
+        hidden ? mark(i, 1, 0, 0) : mark(i, 1, 1, 0);
         continue;
       }
       bool near = false;
@@ -92,7 +103,9 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
         for (int qx = std::max(0, x - 2); qx <= std::min(n - 1, x + 2) && !near; ++qx)
           near = hidden_at(size_t(qy) * size_t(n) + size_t(qx));
       (near ? r.near : r.other) += 1;
+      near ? mark(i, 1, 0, 1) : mark(i, 0, 0.3f, 1);
     }
+  if (!image_file.empty()) write_image(image_file.substr(0, image_file.size() - 4) + "_causes.png", causes);
   const double pixels = double(n) * double(n);
   r.rmse = std::sqrt(squared / (3.0 * pixels)), r.over01 *= 100.0 / pixels, r.over02 *= 100.0 / pixels;
   return r;

@@ -38,11 +38,13 @@ struct Warmed {
     for (int k = 0; k < kWarmFrames; ++k) renderer.render(path.camera_at(k));
     cache = std::make_unique<PointCache>(renderer.cache());
     edge_pixels = renderer.edge_pixels();
+    crossings.build(renderer.segments(), renderer.segment_kinds(), width, height);
     for (const Object& o : scene.objects) transforms.push_back(o.object_to_world);
   }
   CameraPath path;
   std::unique_ptr<PointCache> cache;
   std::vector<uint8_t> edge_pixels;
+  EdgeCrossings crossings;
   std::vector<glm::mat4> transforms;
 };
 
@@ -99,7 +101,7 @@ void BM_Points(benchmark::State& state) {
       if (epi) {
         cache.depth_cull(w.edge_pixels);
         lap(kCull);
-        cache.cull_behind_surfaces(vf, w.transforms, w.edge_pixels);
+        cache.cull_behind_surfaces(vf, w.transforms, w.crossings);
         lap(kOcclusion);
       }
       cache.fill_epi(epi_image);

@@ -25,6 +25,7 @@ constexpr float kMinLobeWidth = 0.02f;  // radians: narrower lobes age as if thi
 constexpr size_t kPointBlock = 16384;
 constexpr int kTileSize = 64, kBandRows = 8;
 constexpr uint32_t kNoPixel = ~uint32_t(0);  // a point not drawn this frame
+constexpr uint16_t kShowsNothing = 0x8000;     // age bin flag: shows_nothing (fill_epi leaves the pixel empty)
 
 uint32_t pack_srgb(const glm::vec3& c) {
   return uint32_t(encode_srgb8(c.r)) | uint32_t(encode_srgb8(c.g)) << 8 | uint32_t(encode_srgb8(c.b)) << 16;
@@ -122,6 +123,10 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     throw std::invalid_argument("point cache: view size differs from the cache's image size");
   const float znear = std::max(frame.view().camera.znear, 0.0f);
   const int max_age = settings_.max_age;
+  // The eye in each object's space: a point's stored normal faces the eye it was shaded from, and
+  // a point whose surface now faces away from the eye is not drawn (back_facing).
+  eye_local_.resize(object_to_world.size());
+  for (size_t o = 0; o < object_to_world.size(); ++o) eye_local_[o] = glm::vec3(glm::inverse(object_to_world[o]) * glm::vec4(frame.eye(), 1.0f));
   const int tiles_x = (w + kTileSize - 1) / kTileSize, tiles_y = (h + kTileSize - 1) / kTileSize;
   const size_t tiles = size_t(tiles_x) * size_t(tiles_y);
   auto tile_of = [&](uint32_t pixel) { return size_t(pixel / uint32_t(w) / kTileSize) * size_t(tiles_x) + pixel % uint32_t(w) / kTileSize; };
@@ -134,7 +139,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
     PointBlock& block = point_blocks_[b];
     std::array<uint32_t, kAgeBins> ages{};
-    size_t projected = 0, expired = 0;
+    size_t projected = 0, expired = 0, back_facing_points = 0;
     block.free.clear();
     block.tile_count.assign(tiles, 0);
     for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
@@ -162,6 +167,11 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       }
       ++ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
       if (!inside) continue;
+      if (back_facing(p)) {
+        p.image_id = -1;
+        ++back_facing_points;
+        continue;
+      }
       const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
       const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
       const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
@@ -170,17 +180,17 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       key_[i] = zkey(proj.depth, rx + 4 * ry, uint32_t(i));
       pixel_[i] = pixel;
       word_[i] = epi_color_word(p);
-      age_bin_[i] = uint16_t(std::min<size_t>(p.age, kAgeBins - 2));
+      age_bin_[i] = uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p) ? kShowsNothing : 0));
       ++block.tile_count[tile_of(pixel)];
       ++projected;
     }
-    block.projected = projected, block.expired = expired;
+    block.projected = projected, block.expired = expired, block.back_facing = back_facing_points;
     block.ages.assign(ages.begin(), ages.end());
   });
-  size_t projected = 0, expired = 0;
+  size_t projected = 0, expired = 0, back_facing_points = 0;
   age_histogram_.assign(kAgeBins, 0);
   for (const PointBlock& block : point_blocks_) {
-    projected += block.projected, expired += block.expired;
+    projected += block.projected, expired += block.expired, back_facing_points += block.back_facing;
     for (size_t k = 0; k < kAgeBins; ++k) age_histogram_[k] += block.ages[k];
   }
 
@@ -255,7 +265,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   last_frame_.emplace(frame);
   last_transforms_.assign(object_to_world.begin(), object_to_world.end());
   pixel_words_current_ = true;
-  return {projected, drawn, culled, 0, expired};
+  return {projected, drawn, culled, 0, expired, back_facing_points};
 }
 
 void PointCache::count_drawn(size_t tile, int x0, int y0, int x1, int y1) {
@@ -263,9 +273,16 @@ void PointCache::count_drawn(size_t tile, int x0, int y0, int x1, int y1) {
   size_t drawn = 0;
   for (int y = y0; y < y1; ++y)
     for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i)
-      if (image_.point[i] >= 0) ++drawn, ++ages[pixel_age_bin_[i]];
+      if (image_.point[i] >= 0) ++drawn, ++ages[pixel_age_bin_[i] & ~kShowsNothing];
   tile_blocks_[tile].drawn = drawn;
   tile_blocks_[tile].ages.assign(ages.begin(), ages.end());
+}
+
+bool PointCache::back_facing(const CachePoint& p) const {
+  // The stored normal faces the eye the point was shaded from; seen from the other side of its
+  // surface, the point is either hidden (closed surfaces) or shows the other side's shading.
+  if (p.object == kNone || p.object >= eye_local_.size() || p.normal == 0) return false;
+  return glm::dot(unpack_unit(p.normal), eye_local_[p.object] - p.local) < 0.0f;
 }
 
 bool PointCache::drawn(size_t slot) const {
@@ -524,11 +541,9 @@ bool PointCache::refines(const CachePoint& cached, const CachePoint& result) con
 }
 
 size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
-                                        std::span<const uint8_t> edge_pixels) {
-  if (settings_.reference_path) return cull_behind_surfaces_reference(frame, object_to_world, edge_pixels);
+                                        const EdgeCrossings& crossings) {
+  if (settings_.reference_path) return cull_behind_surfaces_reference(frame, object_to_world, crossings);
   const int w = image_.width, h = image_.height, radius = std::max(1, settings_.occlusion_radius);
-  if (edge_pixels.size() != image_.point.size()) throw std::invalid_argument("point cache: edge mask size differs from the image");
-  auto barrier = [&](size_t i) { return (edge_pixels[i] & (kDepthEdge | kSharpEdge)) != 0; };
   const float scale = 1.0f + settings_.occlusion_margin;
   // Normals back to world space: the inverse transpose of each object's matrix.
   normal_to_world_.resize(object_to_world.size());
@@ -536,16 +551,10 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   // The nearest depth in each pixel's window: a pixel with no neighbour nearer by the margin
   // (most of them) is skipped without looking at its neighbours.
   window_min_depth(radius);
-  // A pixel q is seen from p without crossing an edge when no barrier pixel lies on the segment
-  // between their centres (sampled every half pixel), q itself included.
-  auto clear_path = [&](int px, int py, int qx, int qy) {
-    const int steps = 2 * std::max(std::abs(qx - px), std::abs(qy - py));
-    for (int k = 1; k <= steps; ++k) {
-      const float t = float(k) / float(steps);
-      const int x = int(std::floor(float(px) + 0.5f + t * float(qx - px))), y = int(std::floor(float(py) + 0.5f + t * float(qy - py)));
-      if (barrier(image_.index(x, y))) return false;
-    }
-    return true;
+  // Where a drawn point lies in the image, exactly (the image keeps only its 4x4 region).
+  auto position = [&](size_t i) {
+    const glm::vec2 pixel = frame.project(world_position(points_[size_t(image_.point[i])], frame, object_to_world)).pixel;
+    return glm::dvec2(pixel);
   };
   // The test sees the image before the pass: hidden pixels are listed per band, removed after.
   for_bands(h, [&](int y0, int y1, std::vector<uint32_t>& hidden) {
@@ -553,9 +562,10 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
       for (int x = 0; x < w; ++x) {
         const size_t i = image_.index(x, y);
         const float depth = image_.depth[i];
-        if (!(min_depth_[i] * scale < depth) || image_.point[i] < 0 || barrier(i)) continue;
+        if (!(min_depth_[i] * scale < depth) || image_.point[i] < 0) continue;
         Ray ray;
         float ray_depth = 0.0f;  // depth per unit along the ray; the ray is made when first needed
+        glm::dvec2 at_p{0.0};
         bool is_hidden = false;
         for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius) && !is_hidden; ++qy)
           for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius) && !is_hidden; ++qx) {
@@ -564,8 +574,8 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
             const CachePoint& near = points_[size_t(image_.point[q])];
             if (near.object == kNone || near.object >= object_to_world.size()) continue;
             if (ray_depth == 0.0f) {
-              ray = frame.ray(float(x) + (float(image_.region[i] & 3) + 0.5f) * 0.25f,
-                              float(y) + (float(image_.region[i] >> 2) + 0.5f) * 0.25f);
+              at_p = position(i);
+              ray = frame.ray(float(at_p.x), float(at_p.y));
               ray_depth = glm::dot(ray.direction, frame.forward());
             }
             // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
@@ -575,7 +585,8 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
             if (std::abs(facing) < 0.1f) continue;
             const float plane_depth = glm::dot(n, at - ray.origin) / facing * ray_depth;
             if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) continue;
-            if (clear_path(x, y, qx, qy)) is_hidden = true;
+            // Hidden unless a silhouette, border or sharp edge passes between the two points.
+            if (!crossings.separated(at_p, position(q))) is_hidden = true;
           }
         if (is_hidden) hidden.push_back(uint32_t(i));
       }
@@ -634,6 +645,10 @@ uint32_t PointCache::display_srgb(const CachePoint& p, bool by_steps) const {
   return by_steps ? pack_srgb_by_steps(shown) : pack_srgb(shown);
 }
 
+bool PointCache::shows_nothing(const CachePoint& p) const {
+  return float(p.staleness) / 16.0f >= settings_.view_fade_end && view_share(p) > settings_.view_drop_share;
+}
+
 int PointCache::priority_age(const CachePoint& p) const {
   // The EPI's age byte drives sampling priority (age / 16): points whose mean is still uncertain
   // ask for samples sooner. Relative standard error of the mean luminance, from the spread of the
@@ -655,7 +670,7 @@ void PointCache::fill_epi(EpiImage& epi) const {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, image_.point.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const int32_t p = image_.point[i];
-      if (p < 0) {
+      if (p < 0 || (pixel_words_current_ ? (pixel_age_bin_[i] & kShowsNothing) != 0 : shows_nothing(points_[size_t(p)]))) {
         epi.edge[i] = 0;
         epi.color[i] = 0;
         continue;

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "epi/epi_pixel.h"
+#include "render/edge_crossings.h"
 #include "scene/scene.h"
 #include "shade/shader.h"
 #include "shade/view.h"
@@ -42,6 +43,10 @@ struct PointCacheSettings {
   // view_fade_start and view_fade_end lobe widths (a highlight seen from elsewhere is not shown).
   float view_priority = 16.0f;
   float view_fade_start = 1.0f, view_fade_end = 3.0f;
+  // A point past view_fade_end whose colour is mostly view-dependent (share above this: metals,
+  // mirrors) is not written into the EPI at all: its pixel is reconstructed from fresher
+  // neighbours instead of shown as a faded, too dark sample (it stays an occluder).
+  float view_drop_share = 0.5f;
   // Sampling priority (the age the EPI sees): the age times the relative standard error of the
   // point's mean luminance over single_sample_error, clamped to [1/4, 4]; a single result counts as
   // that error (factor 1), so refined, converged points ask later and noisy ones sooner.
@@ -89,6 +94,7 @@ struct ProjectionCounts {
   size_t culled = 0;     // z-buffer winners removed by the depth cull
   size_t occluded = 0;   // of the drawn, removed by the edge-aware occlusion test (epi mode)
   size_t expired = 0;    // points freed for exceeding the maximum age
+  size_t back_facing = 0;  // points in the image whose surface faces away from the eye (not drawn)
 };
 
 // encode_srgb8 (epi_pixel.h) without its pow: a search of the 255 steps' least floats, found
@@ -123,13 +129,13 @@ class PointCache {
                 uint16_t epoch = 0);
 
   // Epi mode, after project(): removes from image() the drawn points that lie behind the tangent
-  // plane of a nearer drawn point close by, unless a geometric edge (silhouette, border, sharp:
-  // `edge_pixels` has kDepthEdge or kSharpEdge where such an edge crosses) separates the two. The
+  // plane of a nearer drawn point close by, unless a geometric edge (silhouette, border, sharp)
+  // passes between the two (`crossings`: this frame's edges, tested exactly, sub-pixel). The
   // EPI's edges say where depth may jump; elsewhere the visible surface is continuous, so a
   // far point next to a near one shows through a sparsely sampled nearer surface (the dots
   // of docs/render.md, "Hidden points"). Returns the number removed.
   size_t cull_behind_surfaces(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
-                              std::span<const uint8_t> edge_pixels);
+                              const EdgeCrossings& crossings);
   // Pixels (of the last projection) where results replace rather than refine: non-zero entries.
   // Empty: none.
   void set_refine_mask(std::span<const uint8_t> no_refine) { no_refine_.assign(no_refine.begin(), no_refine.end()); }
@@ -161,8 +167,10 @@ class PointCache {
   int priority_age(const CachePoint& p) const;
   // srgb, less the view-dependent part as it goes stale; by_steps: encoded with encode_srgb8_by_steps
   uint32_t display_srgb(const CachePoint& p, bool by_steps = false) const;
+  bool shows_nothing(const CachePoint& p) const;  // stale and mostly view-dependent (view_drop_share)
   size_t take_slot();
   bool drawn(size_t slot) const;  // the point is the one drawn at its pixel in the last projection
+  bool back_facing(const CachePoint& p) const;  // uses eye_local_ of the current projection
   void choose_evict_age(size_t needed);
   int32_t find_hidden(const ViewFrame& shot, const ShadeResult& r, const glm::vec3& last_world,
                       std::span<const glm::mat4> object_to_world) const;
@@ -170,11 +178,11 @@ class PointCache {
   ProjectionCounts project_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull);
   size_t depth_cull_reference(std::span<const uint8_t> edge_pixels);
   size_t cull_behind_surfaces_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
-                                        std::span<const uint8_t> edge_pixels);
+                                        const EdgeCrossings& crossings);
   void fill_epi_reference(EpiImage& epi) const;
   // The fast path's per-block partial results, kept between frames (nothing is reallocated).
   struct PointBlock {  // kPointBlock points of the cloud
-    size_t projected = 0, expired = 0;
+    size_t projected = 0, expired = 0, back_facing = 0;
     std::vector<uint32_t> ages;        // eviction order, as age_histogram_
     std::vector<uint32_t> free;        // invalid slots, ascending
     std::vector<uint32_t> tile_count;  // points drawn per tile, then the binning's write cursor
@@ -220,7 +228,9 @@ class PointCache {
   bool pixel_words_current_ = false;
   std::vector<std::vector<uint32_t>> band_lists_;  // depth_cull, cull_behind_surfaces: pixels to empty
   std::vector<float> row_min_depth_, min_depth_;    // window_min_depth
-  std::vector<glm::mat3> normal_to_world_;
+  std::vector<glm::mat3> normal_to_world_;  // cull_behind_surfaces' normal matrices
+  std::vector<uint8_t> hidden_;             // ... and the reference path's verdicts
+  std::vector<glm::vec3> eye_local_;        // the eye in each object's space (project)
   std::vector<glm::mat4> to_object_;  // insert: inverse object transforms
   std::vector<uint8_t> inverted_;
   std::vector<uint8_t> no_refine_;  // see set_refine_mask

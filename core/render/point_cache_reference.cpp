@@ -25,10 +25,14 @@ ProjectionCounts PointCache::project_reference(const ViewFrame& frame, std::span
   std::fill(zbuffer_.begin(), zbuffer_.end(), kEmptyKey);
   const float znear = std::max(frame.view().camera.znear, 0.0f);
   const int max_age = settings_.max_age;
+  // The eye in each object's space: a point's stored normal faces the eye it was shaded from, and
+  // a point whose surface now faces away from the eye is not drawn (back_facing).
+  eye_local_.resize(object_to_world.size());
+  for (size_t o = 0; o < object_to_world.size(); ++o) eye_local_[o] = glm::vec3(glm::inverse(object_to_world[o]) * glm::vec4(frame.eye(), 1.0f));
 
   // Aging and projection with a z-buffer (points in parallel; the minimum key wins).
   struct Counts {
-    size_t projected = 0, expired = 0;
+    size_t projected = 0, expired = 0, back_facing = 0;
     std::array<uint32_t, kAgeBins> ages{};  // eviction order: age, off-screen points in the top bin
   };
   const Counts counts = tbb::parallel_reduce(
@@ -54,6 +58,11 @@ ProjectionCounts PointCache::project_reference(const ViewFrame& frame, std::span
           }
           ++c.ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
           if (!inside) continue;
+          if (back_facing(p)) {
+            p.image_id = -1;
+            ++c.back_facing;
+            continue;
+          }
           const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
           const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
           const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
@@ -65,7 +74,7 @@ ProjectionCounts PointCache::project_reference(const ViewFrame& frame, std::span
         return c;
       },
       [](Counts a, const Counts& b) {
-        a.projected += b.projected, a.expired += b.expired;
+        a.projected += b.projected, a.expired += b.expired, a.back_facing += b.back_facing;
         for (size_t k = 0; k < kAgeBins; ++k) a.ages[k] += b.ages[k];
         return a;
       });
@@ -100,7 +109,7 @@ ProjectionCounts PointCache::project_reference(const ViewFrame& frame, std::span
   last_frame_.emplace(frame);
   last_transforms_.assign(object_to_world.begin(), object_to_world.end());
   const size_t drawn = size_t(std::count_if(image_.point.begin(), image_.point.end(), [](int32_t q) { return q >= 0; }));
-  return {counts.projected, drawn, culled, 0, counts.expired};
+  return {counts.projected, drawn, culled, 0, counts.expired, counts.back_facing};
 }
 
 size_t PointCache::depth_cull_reference(std::span<const uint8_t> edge_pixels) {
@@ -144,36 +153,29 @@ size_t PointCache::depth_cull_reference(std::span<const uint8_t> edge_pixels) {
 }
 
 size_t PointCache::cull_behind_surfaces_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
-                                        std::span<const uint8_t> edge_pixels) {
+                                        const EdgeCrossings& crossings) {
   const int w = image_.width, h = image_.height, radius = std::max(1, settings_.occlusion_radius);
-  if (edge_pixels.size() != image_.point.size()) throw std::invalid_argument("point cache: edge mask size differs from the image");
-  auto barrier = [&](size_t i) { return (edge_pixels[i] & (kDepthEdge | kSharpEdge)) != 0; };
   const float scale = 1.0f + settings_.occlusion_margin;
   // Normals back to world space: the inverse transpose of each object's matrix.
-  std::vector<glm::mat3> normal_to_world(object_to_world.size());
-  for (size_t o = 0; o < object_to_world.size(); ++o) normal_to_world[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
-  // A pixel q is seen from p without crossing an edge when no barrier pixel lies on the segment
-  // between their centres (sampled every half pixel), q itself included.
-  auto clear_path = [&](int px, int py, int qx, int qy) {
-    const int steps = 2 * std::max(std::abs(qx - px), std::abs(qy - py));
-    for (int k = 1; k <= steps; ++k) {
-      const float t = float(k) / float(steps);
-      const int x = int(std::floor(float(px) + 0.5f + t * float(qx - px))), y = int(std::floor(float(py) + 0.5f + t * float(qy - py)));
-      if (barrier(image_.index(x, y))) return false;
-    }
-    return true;
+  normal_to_world_.resize(object_to_world.size());
+  for (size_t o = 0; o < object_to_world.size(); ++o) normal_to_world_[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
+  // Where a drawn point lies in the image, exactly (the image keeps only its 4x4 region).
+  auto position = [&](size_t i) {
+    const glm::vec2 pixel = frame.project(world_position(points_[size_t(image_.point[i])], frame, object_to_world)).pixel;
+    return glm::dvec2(pixel);
   };
-  std::vector<uint8_t> hidden(image_.point.size(), 0);
+  hidden_.assign(image_.point.size(), 0);
   const size_t removed = tbb::parallel_reduce(
       tbb::blocked_range<int>(0, h, 8), size_t(0),
       [&](const tbb::blocked_range<int>& rows, size_t count) {
         for (int y = rows.begin(); y != rows.end(); ++y)
           for (int x = 0; x < w; ++x) {
             const size_t i = image_.index(x, y);
-            if (image_.point[i] < 0 || barrier(i)) continue;
+            if (image_.point[i] < 0) continue;
             const float depth = image_.depth[i];
             Ray ray;
             float ray_depth = 0.0f;  // depth per unit along the ray; the ray is made when first needed
+            glm::dvec2 at_p{0.0};
             bool is_hidden = false;
             for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius) && !is_hidden; ++qy)
               for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius) && !is_hidden; ++qx) {
@@ -182,26 +184,27 @@ size_t PointCache::cull_behind_surfaces_reference(const ViewFrame& frame, std::s
                 const CachePoint& near = points_[size_t(image_.point[q])];
                 if (near.object == kNone || near.object >= object_to_world.size()) continue;
                 if (ray_depth == 0.0f) {
-                  ray = frame.ray(float(x) + (float(image_.region[i] & 3) + 0.5f) * 0.25f,
-                                  float(y) + (float(image_.region[i] >> 2) + 0.5f) * 0.25f);
+                  at_p = position(i);
+                  ray = frame.ray(float(at_p.x), float(at_p.y));
                   ray_depth = glm::dot(ray.direction, frame.forward());
                 }
                 // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
-                const glm::vec3 n = glm::normalize(normal_to_world[near.object] * unpack_unit(near.normal));
+                const glm::vec3 n = glm::normalize(normal_to_world_[near.object] * unpack_unit(near.normal));
                 const glm::vec3 at = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));
                 const float facing = glm::dot(n, ray.direction);
                 if (std::abs(facing) < 0.1f) continue;
                 const float plane_depth = glm::dot(n, at - ray.origin) / facing * ray_depth;
                 if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) continue;
-                if (clear_path(x, y, qx, qy)) is_hidden = true;
+                // Hidden unless a silhouette, border or sharp edge passes between the two points.
+                if (!crossings.separated(at_p, position(q))) is_hidden = true;
               }
-            if (is_hidden) hidden[i] = 1, ++count;
+            if (is_hidden) hidden_[i] = 1, ++count;
           }
         return count;
       },
       std::plus<size_t>());
-  for (size_t i = 0; i < hidden.size(); ++i)
-    if (hidden[i]) image_.point[i] = -1, image_.depth[i] = std::numeric_limits<float>::infinity();
+  for (size_t i = 0; i < hidden_.size(); ++i)
+    if (hidden_[i]) image_.point[i] = -1, image_.depth[i] = std::numeric_limits<float>::infinity();
   return removed;
 }
 
@@ -211,7 +214,7 @@ void PointCache::fill_epi_reference(EpiImage& epi) const {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, image_.point.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const int32_t p = image_.point[i];
-      if (p < 0) {
+      if (p < 0 || shows_nothing(points_[size_t(p)])) {
         epi.edge[i] = 0;
         epi.color[i] = 0;
         continue;

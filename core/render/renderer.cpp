@@ -322,7 +322,8 @@ const RgbImage& FrameRenderer::render(const Camera& camera, std::span<const glm:
     mark_edge_pixels(segments_, segment_kinds_, settings_.width, settings_.height, edge_pixels_);
     if (edge_aware) {
       stats_.points.culled = cache_.depth_cull(edge_pixels_);
-      stats_.points.occluded = cache_.cull_behind_surfaces(frame, transforms_, edge_pixels_);
+      crossings_.build(segments_, segment_kinds_, settings_.width, settings_.height);
+      stats_.points.occluded = cache_.cull_behind_surfaces(frame, transforms_, crossings_);
       stats_.points.drawn -= stats_.points.culled + stats_.points.occluded;
     }
     // A pixel an edge crosses keeps one side's sample: averaging results from both sides there

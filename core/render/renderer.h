@@ -164,6 +164,7 @@ class FrameRenderer {
   std::vector<Segment> segments_;
   std::vector<edges::EdgeKind> segment_kinds_;
   std::vector<float> filtered_depth_;
+  EdgeCrossings crossings_;           // the same edges' barrier pieces, for the occlusion test
   std::vector<uint8_t> edge_pixels_;  // pixels crossed by edges, by kind (point_cache.h)
   std::vector<uint8_t> holes_, barrier_;  // hole filling
   FrameStats stats_;

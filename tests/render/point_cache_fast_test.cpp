@@ -99,6 +99,7 @@ void run_path(const PathCase& c, int threads) {
     EXPECT_EQ(fast.stats().points.culled, reference.stats().points.culled) << where;
     EXPECT_EQ(fast.stats().points.occluded, reference.stats().points.occluded) << where;
     EXPECT_EQ(fast.stats().points.expired, reference.stats().points.expired) << where;
+    EXPECT_EQ(fast.stats().points.back_facing, reference.stats().points.back_facing) << where;
     if (::testing::Test::HasFailure()) return;
   }
 }
@@ -165,15 +166,24 @@ TEST(PointCacheFastPath, RandomCloudsMatchTheReferenceBitForBit) {
         EXPECT_EQ(fast.insert(shot, batch, objects, epoch), reference.insert(shot, batch, objects, epoch)) << where;
         std::vector<uint8_t> edges(size_t(w) * size_t(h));
         for (uint8_t& e : edges) e = u(rng) < 0.1f ? uint8_t(rng() % 8) : 0;
+        std::vector<Segment> segments;
+        std::vector<edges::EdgeKind> kinds;
+        for (int k = 0; k < 1 + (w + h) / 8; ++k) {
+          segments.push_back({u(rng) * w, u(rng) * h, u(rng) * w, u(rng) * h});
+          kinds.push_back(edges::EdgeKind(rng() % edges::kEdgeKindCount));
+        }
+        EdgeCrossings crossings;
+        crossings.build(segments, kinds, w, h);
         const bool cull_now = frame % 3 == 0;
         const ProjectionCounts a = fast.project(shot, objects, cull_now), b = reference.project(shot, objects, cull_now);
         EXPECT_EQ(a.projected, b.projected) << where;
         EXPECT_EQ(a.drawn, b.drawn) << where;
         EXPECT_EQ(a.culled, b.culled) << where;
         EXPECT_EQ(a.expired, b.expired) << where;
+        EXPECT_EQ(a.back_facing, b.back_facing) << where;
         if (!cull_now) {
           EXPECT_EQ(fast.depth_cull(edges), reference.depth_cull(edges)) << where;
-          EXPECT_EQ(fast.cull_behind_surfaces(shot, objects, edges), reference.cull_behind_surfaces(shot, objects, edges)) << where;
+          EXPECT_EQ(fast.cull_behind_surfaces(shot, objects, crossings), reference.cull_behind_surfaces(shot, objects, crossings)) << where;
         }
         if (frame % 4 == 1) {  // results arriving between projection and fill (points change)
           const ShadeBatch late{{batch.results.begin(), batch.results.begin() + (results + 1) / 2}, {}, 0};

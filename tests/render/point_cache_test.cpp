@@ -303,15 +303,85 @@ TEST(PointCache, ViewDependentPointsGoStaleWithTheTurnOfTheViewAndDiffuseOnesDoN
     EXPECT_NEAR(float(g.staleness) / 16.0f, staleness, 0.05f) << turn;
     EpiImage epi(w, h);
     cache.fill_epi(epi);
-    const uint32_t gc = epi.color[size_t(g.image_id)], dc = epi.color[size_t(d.image_id)];
+    const uint32_t dc = epi.color[size_t(d.image_id)];
     EXPECT_EQ(sample_age(dc), 1);
+    EXPECT_EQ(dc & 0xffffffu, encode_srgb8(1.0f) * 0x010101u);
+    if (float(g.staleness) / 16.0f >= settings.view_fade_end) {
+      // 90 % view-dependent and past the fade: not shown at all (its pixel is reconstructed).
+      EXPECT_FALSE(has_sample(epi.edge[size_t(g.image_id)])) << turn;
+      continue;
+    }
+    ASSERT_TRUE(has_sample(epi.edge[size_t(g.image_id)])) << turn;
+    const uint32_t gc = epi.color[size_t(g.image_id)];
     EXPECT_GT(sample_age(gc), last_priority) << turn;  // rises with the turn
     last_priority = sample_age(gc);
     const float fade = std::clamp((staleness - settings.view_fade_start) / (settings.view_fade_end - settings.view_fade_start), 0.0f, 1.0f);
     const float shown = srgb8_to_linear()[gc & 0xff];
     EXPECT_NEAR(shown, 1.0f - 0.9f * fade, 0.05f) << turn;  // staleness in 1/16 widths, colour in 8 bits
-    EXPECT_EQ(dc & 0xffffffu, encode_srgb8(1.0f) * 0x010101u);
   }
+}
+
+// Past the fade, a point that is mostly reflection is dropped from the EPI, one that is mostly
+// diffuse keeps its diffuse part; both still occupy their pixel (they occlude what lies behind).
+TEST(PointCache, StaleMostlyViewDependentPointsAreNotShownMostlyDiffuseOnesLoseTheirHighlight) {
+  const int w = 16, h = 16;
+  const ViewFrame shot(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  ShadeBatch batch;
+  ShadeResult metal = plane_hit(shot, 4.5f, 8.5f, 0.0f, 0, glm::vec3(0.8f));
+  metal.view_dependent = glm::vec3(0.6f), metal.lobe_width = 0.02f;  // 75 % reflection
+  ShadeResult plastic = plane_hit(shot, 11.5f, 8.5f, 0.0f, 0, glm::vec3(0.8f));
+  plastic.view_dependent = glm::vec3(0.2f), plastic.lobe_width = 0.02f;  // 25 % highlight
+  batch.results = {metal, plastic};
+  PointCache cache(w, h);
+  cache.insert(shot, batch, kIdentity);
+  const ViewFrame now(view_of(camera_at({10.0f * std::sin(0.3f), 0, 10.0f * std::cos(0.3f)}, {0, 0, 0}), w, h));
+  cache.project(now, kIdentity);
+  const CachePoint& m = cache.points()[0];
+  const CachePoint& p = cache.points()[1];
+  ASSERT_GE(float(m.staleness) / 16.0f, cache.settings().view_fade_end);
+  ASSERT_GE(m.image_id, 0);
+  ASSERT_GE(p.image_id, 0);
+  EXPECT_EQ(cache.image().point[size_t(m.image_id)], 0);  // still drawn, as an occluder
+  EpiImage epi(w, h);
+  cache.fill_epi(epi);
+  EXPECT_FALSE(has_sample(epi.edge[size_t(m.image_id)]));
+  ASSERT_TRUE(has_sample(epi.edge[size_t(p.image_id)]));
+  EXPECT_NEAR(srgb8_to_linear()[epi.color[size_t(p.image_id)] & 0xff], 0.6f, 0.02f);  // diffuse part only
+
+  // A lower threshold keeps the metal too (faded to its diffuse part).
+  PointCacheSettings keep;
+  keep.view_drop_share = 1.0f;
+  PointCache kept(w, h, keep);
+  kept.insert(shot, batch, kIdentity);
+  kept.project(now, kIdentity);
+  kept.fill_epi(epi);
+  ASSERT_TRUE(has_sample(epi.edge[size_t(kept.points()[0].image_id)]));
+  EXPECT_NEAR(srgb8_to_linear()[epi.color[size_t(kept.points()[0].image_id)] & 0xff], 0.2f, 0.02f);
+}
+
+// A point is shaded on the side of its surface that faced the eye; seen from the other side
+// (the camera crossed its plane, or it lies on the far side of a closed object) it is not drawn.
+TEST(PointCache, PointsSeenFromBehindTheirSurfaceAreNotDrawn) {
+  const int w = 16, h = 16;
+  const ViewFrame front(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  ShadeBatch batch;
+  batch.results = {plane_hit(front, 8.5f, 8.5f, 0.0f, 0, glm::vec3(0.5f))};
+  // The plane turned by object transforms: 80 degrees keeps its front towards the eye, 100 turns it away.
+  for (const float degrees : {0.0f, 80.0f, 100.0f, 180.0f}) {
+    PointCache cache(w, h);
+    cache.insert(front, batch, kIdentity);
+    std::vector<glm::mat4> turned(4, glm::rotate(glm::mat4(1.0f), glm::radians(degrees), glm::vec3(0, 1, 0)));
+    const ProjectionCounts counts = cache.project(front, turned);
+    const bool away = degrees > 90.0f;
+    EXPECT_EQ(counts.back_facing, away ? 1u : 0u) << degrees;
+    EXPECT_EQ(counts.drawn, away ? 0u : 1u) << degrees;
+  }
+  // The camera moved behind the plane.
+  PointCache cache(w, h);
+  cache.insert(front, batch, kIdentity);
+  const ViewFrame behind(view_of(camera_at({0.5f, 0, -10}, {0, 0, 0}), w, h));
+  EXPECT_EQ(cache.project(behind, kIdentity).drawn, 0u);
+  EXPECT_EQ(cache.project(front, kIdentity).drawn, 1u);
 }
 
 // Convergence at rest: results on the same point under one placement are averaged; the priority

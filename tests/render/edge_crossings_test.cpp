@@ -1,0 +1,120 @@
+// EdgeCrossings (the occlusion test's "is there an edge between these two points?") against a
+// brute-force test of every piece, and the occlusion test at pixels an edge crosses.
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "render/edge_crossings.h"
+#include "render/point_cache.h"
+
+namespace epi::render {
+namespace {
+
+using edges::EdgeKind;
+
+// Brute force: parametric intersection of the two closed segments (no degenerate cases drawn).
+bool crosses(glm::dvec2 a, glm::dvec2 b, const Segment& s) {
+  const glm::dvec2 r = b - a, q{s.x1 - s.x0, s.y1 - s.y0}, d{s.x0 - a.x, s.y0 - a.y};
+  const double den = r.x * q.y - r.y * q.x;
+  if (den == 0.0) return false;
+  const double t = (d.x * q.y - d.y * q.x) / den, u = (d.x * r.y - d.y * r.x) / den;
+  return t >= 0.0 && t <= 1.0 && u >= 0.0 && u <= 1.0;
+}
+
+TEST(EdgeCrossings, AgreesWithTestingEveryBarrierPiece) {
+  std::mt19937 rng(7);
+  const int w = 97, h = 61;
+  std::uniform_real_distribution<double> x(-20.0, w + 20.0), y(-20.0, h + 20.0), step(-2.5, 2.5), len(-30.0, 30.0);
+  for (int round = 0; round < 20; ++round) {
+    std::vector<Segment> segments;
+    std::vector<EdgeKind> kinds;
+    const EdgeKind all[] = {EdgeKind::silhouette, EdgeKind::border, EdgeKind::sharp, EdgeKind::shadow, EdgeKind::umbral};
+    for (int k = 0; k < 60; ++k) {
+      const double x0 = x(rng), y0 = y(rng);
+      segments.push_back({x0, y0, x0 + len(rng), y0 + len(rng)});
+      kinds.push_back(all[rng() % 5]);
+    }
+    EdgeCrossings crossings;
+    crossings.build(segments, kinds, w, h);
+    int separated = 0;
+    for (int k = 0; k < 2000; ++k) {
+      const glm::dvec2 a{std::uniform_real_distribution<double>(0.0, w)(rng), std::uniform_real_distribution<double>(0.0, h)(rng)};
+      const glm::dvec2 b = a + glm::dvec2(step(rng), step(rng));
+      bool expected = false;
+      for (size_t s = 0; s < segments.size(); ++s)
+        expected |= (kinds[s] == EdgeKind::silhouette || kinds[s] == EdgeKind::border || kinds[s] == EdgeKind::sharp) &&
+                    crosses(a, b, segments[s]);
+      ASSERT_EQ(crossings.separated(a, b), expected) << round << " " << k;
+      separated += expected;
+    }
+    EXPECT_GT(separated, 20);  // the test sees both answers
+  }
+}
+
+TEST(EdgeCrossings, ExtremesOnGridLinesEndpointsHugeAndEmpty) {
+  EdgeCrossings none;
+  none.build({}, {}, 8, 8);
+  EXPECT_FALSE(none.separated({1, 1}, {6, 6}));
+  const std::vector<Segment> segments = {{4.0, -1e9, 4.0, 1e9},               // a grid line, far past the image
+                                         {0.0, 0.0, 0.0, 0.0},                // a point
+                                         {NAN, 0.0, 1.0, 1.0}};               // not finite: ignored
+  const std::vector<EdgeKind> kinds(3, EdgeKind::silhouette);
+  EdgeCrossings crossings;
+  crossings.build(segments, kinds, 8, 8);
+  EXPECT_TRUE(crossings.separated({3.5, 2.0}, {4.5, 2.0}));
+  EXPECT_TRUE(crossings.separated({3.0, 7.9}, {4.0, 7.9}));  // ends on the line: touching counts
+  EXPECT_FALSE(crossings.separated({4.1, 0.1}, {7.9, 7.9}));
+  EXPECT_TRUE(crossings.separated({0.0, 0.0}, {1.0, 1.0}));  // through the point piece
+  EXPECT_FALSE(crossings.separated({1.0, 0.5}, {2.0, 0.5}));
+}
+
+// A near plane over the left part of the image in front of a far plane, its silhouette at
+// x = 7.6. Far points on the near plane's side of the silhouette are hidden, also inside the
+// pixel the silhouette crosses; those beyond it are not, also inside that pixel.
+TEST(PointCache, TheOcclusionTestActsInsidePixelsAnEdgeCrossesOnTheNearSideOnly) {
+  const int w = 16, h = 8;
+  Camera camera;
+  camera.eye = {0, 0, 10}, camera.target = {0, 0, 0}, camera.up = {0, 1, 0}, camera.yfov_degrees = 40.0f;
+  View view;
+  view.camera = camera, view.width = w, view.height = h;
+  const ViewFrame frame(view);
+  auto hit = [&](float px, float py, float plane_z, uint32_t object) {
+    const Ray ray = frame.ray(px, py);
+    ShadeResult r;
+    r.x = px, r.y = py, r.hit = true, r.object = object;
+    r.position = ray.origin + (plane_z - ray.origin.z) / ray.direction.z * ray.direction;
+    r.normal = {0, 0, 1}, r.color = glm::vec3(0.5f);
+    return r;
+  };
+  ShadeBatch far, near;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) far.results.push_back(hit(float(x) + (x == 7 && y % 2 ? 0.9f : 0.5f), float(y) + 0.5f, -5.0f, 0));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x <= 6; ++x) near.results.push_back(hit(float(x) + 0.5f, float(y) + 0.5f, 1.0f, 1));
+  const std::vector<glm::mat4> identity(2, glm::mat4(1.0f));
+  const std::vector<Segment> silhouette = {{7.6, -1.0, 7.6, h + 1.0}};
+  const std::vector<EdgeKind> kinds = {EdgeKind::silhouette};
+  for (const bool with_edge : {true, false}) {
+    PointCache cache(w, h);
+    cache.insert(frame, far, identity);
+    cache.project(frame, identity, false);
+    cache.insert(frame, near, identity);
+    cache.project(frame, identity, false);
+    EdgeCrossings crossings;
+    if (with_edge) crossings.build(silhouette, kinds, w, h);
+    cache.cull_behind_surfaces(frame, identity, crossings);
+    const PointImage& image = cache.image();
+    for (int y = 0; y < h; ++y) {
+      for (int x = 0; x <= 6; ++x) ASSERT_GE(image.point[image.index(x, y)], 0);  // the near plane
+      const bool far_point_left_of_edge = y % 2 == 0;
+      EXPECT_EQ(image.point[image.index(7, y)] >= 0, with_edge && !far_point_left_of_edge) << y;
+      EXPECT_EQ(image.point[image.index(8, y)] >= 0, with_edge) << y;  // 2 px from the near points
+      for (int x = 9; x < w; ++x) EXPECT_GE(image.point[image.index(x, y)], 0);  // no near point within 2 px
+    }
+  }
+}
+
+}  // namespace
+}  // namespace epi::render
