@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -113,7 +114,7 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run_all(int argc, char** argv) {
   Options o;
   std::vector<std::string> scenes;
   for (int k = 1; k < argc; ++k) {
@@ -130,6 +131,7 @@ int main(int argc, char** argv) {
     else if (a == "--budget") o.budget = std::stod(value());
     else if (a == "--spp") o.spp = std::stoi(value());
     else if (a == "--out") o.out = value();
+    else if (a.starts_with("-")) o.size = 0;  // unknown option (also --help): the usage line below
     else scenes.push_back(a);
   }
   if (scenes.empty() || o.size < 8 || o.frames < 1 || !(o.budget > 0.0 && o.budget <= 1.0)) {
@@ -165,4 +167,13 @@ int main(int argc, char** argv) {
     }
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  try {
+    return run_all(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "render_motion_quality: %s\n", e.what());
+    return 1;
+  }
 }

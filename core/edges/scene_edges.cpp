@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -198,7 +199,9 @@ SceneEdgeFinder::SceneEdgeFinder(const Scene& scene, const SceneEdgeSettings& se
     MeshData& data = meshes_[i];
     data.edges = build_edge_mesh(scene.meshes[i]);
     tbb::parallel_invoke([&] { data.tree = EdgeTree(data.edges, settings.tree); },
-                         [&] { data.receivers = ReceiverTree(data.edges); });
+                         [&] {
+                           if (settings.receiver_trees) data.receivers = ReceiverTree(data.edges);
+                         });
 
     // The choice rule: estimated tree work over six viewpoints around the mesh against brute force.
     const EdgeMesh& m = data.edges;
@@ -228,6 +231,7 @@ SceneEdgeFinder::SceneEdgeFinder(const Scene& scene, const SceneEdgeSettings& se
     data.choice.brute_ns = double(m.face_count()) * c.ns_per_face + double(m.edge_count()) * c.ns_per_brute_edge +
                            silhouettes * c.ns_per_brute_silhouette;
     data.choice.tree = settings.force == 0 ? data.choice.tree_ns < data.choice.brute_ns : settings.force > 0;
+    if (!data.choice.tree && !settings.keep_unchosen_trees) data.tree = EdgeTree();  // frees it
   }
   lights_ = scene_lights(scene, &light_names_);
   build_ms_ = ms_since(start);
@@ -317,6 +321,7 @@ std::vector<LightBlockerReceiver> SceneEdgeFinder::find_triples(const Scene& sce
 
 void SceneEdgeFinder::shadow_edges(const Scene& scene, std::span<const LightBlockerReceiver> triples,
                                    std::vector<SceneEdge>& out) {
+  if (!settings_.receiver_trees) throw std::logic_error("shadow edges from an edge finder built without receiver trees");
   light_names_.clear();  // called every frame: the names are rebuilt, not appended
   lights_ = scene_lights(scene, &light_names_);
   std::vector<LightBlockerReceiver> sorted(triples.begin(), triples.end());

@@ -47,6 +47,12 @@ struct SceneEdgeSettings {
   EdgeTreeSettings tree;
   FinderCost cost;
   int force = 0;  // 0: choose by cost; 1: always the tree; -1: always brute force
+  // A mesh sent to brute force keeps no tree (the tree is built to estimate its cost, then freed:
+  // model only what the scene requires). true: keep every tree (`epi edges` times both finders).
+  bool keep_unchosen_trees = false;
+  // Receiver trees (the faces shadow edges are searched on) for every mesh; false: none, and
+  // shadow_edges() must not be called (the frame loop with shadow edges off).
+  bool receiver_trees = true;
 };
 
 struct FinderChoice {
@@ -63,7 +69,9 @@ class SceneEdgeFinder {
   const std::vector<std::string>& light_names() const { return light_names_; }
   const FinderChoice& choice(uint32_t mesh) const { return meshes_[mesh].choice; }
   const EdgeMesh& edge_mesh(uint32_t mesh) const { return meshes_[mesh].edges; }
+  // Empty (no nodes) for a mesh sent to brute force unless SceneEdgeSettings::keep_unchosen_trees.
   const EdgeTree& edge_tree(uint32_t mesh) const { return meshes_[mesh].tree; }
+  const ReceiverTree& receiver_tree(uint32_t mesh) const { return meshes_[mesh].receivers; }
   double build_ms() const { return build_ms_; }
   size_t memory_bytes() const;
 
@@ -75,7 +83,8 @@ class SceneEdgeFinder {
   std::vector<LightBlockerReceiver> find_triples(const Scene& scene) const;
 
   // Shadow edges of the triples' (light, blocker) pairs over their receivers. A pair's edges are
-  // reused while its light, blocker and receivers keep their transforms.
+  // reused while its light, blocker and receivers keep their transforms. Throws std::logic_error
+  // for a finder built without receiver trees.
   void shadow_edges(const Scene& scene, std::span<const LightBlockerReceiver> triples, std::vector<SceneEdge>& out);
   size_t pairs_recomputed() const { return pairs_recomputed_; }
   // Work counters (docs/reliability.md): sphere tests of the last find_triples; receivers whose

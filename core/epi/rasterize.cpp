@@ -29,9 +29,12 @@ void BoundaryMasks::clear() {
 
 namespace {
 
-// Integer range [first, last] of k with lo < k + offset <= hi, clipped to [kmin, kmax].
+// Integer range [first, last] of k with lo < k + offset <= hi, clipped to [kmin, kmax]; and line 0
+// (the image's top or left border) when lo lies exactly on it: a segment that starts on the border
+// (a clipped edge, a pattern's edge) must separate the first row or column as well
+// (tests/extremes/large_image_test.cpp; before, the first row leaked across such an edge).
 void crossed_lines(double lo, double hi, double offset, int kmin, int kmax, int& first, int& last) {
-  const double f = std::floor(std::clamp(lo - offset, kmin - 2.0, kmax + 2.0)) + 1.0;
+  const double f = offset == 0.0 && lo == 0.0 ? 0.0 : std::floor(std::clamp(lo - offset, kmin - 2.0, kmax + 2.0)) + 1.0;
   const double l = std::floor(std::clamp(hi - offset, kmin - 2.0, kmax + 2.0));
   first = std::max(kmin, int(f));
   last = std::min(kmax, int(l));

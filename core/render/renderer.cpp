@@ -62,7 +62,8 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
       settings_(settings),
       cache_(settings.width, settings.height, settings.cache),
       epi_(settings.width, settings.height),
-      masks_(settings.width, settings.height, settings.mode == RenderMode::epi && settings.complex_filter) {
+      masks_(settings.width, settings.height, settings.mode == RenderMode::epi && settings.complex_filter),
+      reconstructor_(settings.kernels) {
   if (!(settings.sample_budget > 0.0 && settings.sample_budget <= 1.0))
     throw std::invalid_argument("sample budget " + std::to_string(settings.sample_budget) + " is not in (0, 1]");
   transforms_.reserve(scene.objects.size());
@@ -70,7 +71,9 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
   for (const PunctualLight& l : ray_scene.punctual_lights()) light_positions_.push_back(l.position);
   placement_ = std::make_shared<const PlacementState>(PlacementState{transforms_, light_positions_});
   if (settings.mode == RenderMode::epi && (settings.view_edges || settings.shadow_edges)) {
-    finder_ = std::make_unique<edges::SceneEdgeFinder>(scene);
+    edges::SceneEdgeSettings edge_settings = settings.edge_finder;
+    edge_settings.receiver_trees = settings.shadow_edges;  // model only what the settings use
+    finder_ = std::make_unique<edges::SceneEdgeFinder>(scene, edge_settings);
     edge_scene_.source = scene.source;
     edge_scene_.objects = scene.objects;
     edge_scene_.punctual_lights = scene.punctual_lights;
@@ -246,6 +249,8 @@ void FrameRenderer::find_and_rasterize_edges(const ViewFrame& frame) {
   }
   edges_.clear();
   if (settings_.view_edges) finder_->view_edges(edge_scene_, glm::dvec3(frame.eye()), edges_);
+  if (!settings_.sharp_border_edges)
+    std::erase_if(edges_, [](const edges::SceneEdge& e) { return e.kind == edges::EdgeKind::sharp || e.kind == edges::EdgeKind::border; });
   if (settings_.shadow_edges && !triples_.empty()) {
     // A triple not reported for longer than a point lives backs no point in the cache any more.
     std::erase_if(triples_, [this](const auto& t) { return frame_ - t.second > cache_.settings().max_age; });

@@ -43,6 +43,9 @@ struct FrameSettings {
   int shader_threads = 0;       // AsyncShader concurrency (0: all cores)
   // epi mode: which edges go into the EPI, and their occlusion culling.
   bool view_edges = true;       // silhouette, sharp, border
+  bool sharp_border_edges = true;  // with view_edges: false keeps silhouettes only (the study's edge-kind knob)
+  edges::SceneEdgeSettings edge_finder;  // tree vs brute force per mesh (force: 0 cost model, 1 tree, -1 brute force)
+  KernelChoice kernels;         // the reconstruction's row kernels (oracle, or a SIMD target; 0: the best here)
   bool shadow_edges = true;     // from the light-blocker-receiver triples the shader reports
   // Umbral and penumbral edges of area lights (the paper's soft-shadow edges). Off by default:
   // cutting interpolation at a penumbra a few pixels wide costs more than it gains (docs/render.md,
@@ -111,6 +114,7 @@ class FrameRenderer {
   const std::vector<edges::SceneEdge>& scene_edges() const { return edges_; }  // this frame's, world space
   const edges::SceneEdgeFinder* edge_finder() const { return finder_.get(); }
   double edge_finder_build_ms() const { return finder_ ? finder_->build_ms() : 0.0; }
+  const char* kernel_name() const { return reconstructor_.kernel_name(); }  // "oracle" or the SIMD target's
   int frame() const { return frame_; }
   const std::vector<glm::vec3>& light_positions() const { return light_positions_; }  // as placed now
   // The light positions recorded with the newest shot (what its requests are traced with).

@@ -271,7 +271,9 @@ struct AreaResult {
 
 AreaResult area_edges(const AreaSetup& s) {
   const Scene& scene = s.world.scene;
-  SceneEdgeFinder finder(scene);
+  SceneEdgeSettings keep;  // the blockers' trees whatever the cost model chose
+  keep.keep_unchosen_trees = true;
+  SceneEdgeFinder finder(scene, keep);
   const EdgeLight& light = finder.lights()[0];
   AreaResult result;
   std::vector<ReceiverView> receivers;
@@ -308,7 +310,9 @@ glm::dvec3 critical_point(const ShadowEvent& event, const glm::dvec3& x, const g
 TEST(AreaShadows, TreeAndBruteForceFindTheSameEvents) {
   const AreaSetup s = area_world(true);
   const Scene& scene = s.world.scene;
-  const SceneEdgeFinder finder(scene);
+  SceneEdgeSettings keep;  // every tree, to compare with brute force
+  keep.keep_unchosen_trees = true;
+  const SceneEdgeFinder finder(scene, keep);
   for (uint32_t o : {1u, 2u}) {
     const uint32_t mesh = scene.objects[o].mesh;
     BlockerView b{&finder.edge_mesh(mesh), &finder.edge_tree(mesh), glm::dmat4(scene.objects[o].object_to_world), o};

@@ -236,7 +236,9 @@ TEST(SoftShadows, NonConvexLight) {
   EXPECT_EQ(open_ends(s, EdgeKind::penumbral, 1e-6), 0);
   // The reflex corner (0, 3, 0) starts no VE event: the light covers both sides of every line
   // through it, so no blocker edge can just cover or just uncover the light there.
-  SceneEdgeFinder finder(s.world.scene);
+  SceneEdgeSettings keep;  // the box's tree whatever the cost model chose
+  keep.keep_unchosen_trees = true;
+  SceneEdgeFinder finder(s.world.scene, keep);
   const Object& box_object = s.world.scene.objects[1];
   const BlockerView blocker{&finder.edge_mesh(box_object.mesh), &finder.edge_tree(box_object.mesh),
                             glm::dmat4(box_object.object_to_world), 1};

@@ -73,7 +73,9 @@ BoundaryMasks brute_masks_eighths(int w, int h, long long X0, long long Y0, long
   };
   for (int k = 0; k <= 2 * w; ++k) {  // vertical lines x = k/2 (odd k: centre lines), in eighths 4k
     const long long L = 4LL * k;
-    if ((X0 < L) == (X1 < L) || (k % 2 && k / 2 >= w)) continue;
+    // Crossed when L is in (lo, hi], and line 0 (the image border) also when lo == 0 (rasterize.cpp).
+    const bool crossed = (X0 < L) != (X1 < L) || (L == 0 && std::min(X0, X1) == 0 && X0 != X1);
+    if (!crossed || (k % 2 && k / 2 >= w)) continue;
     long long num = Y0 * (X1 - X0) + (L - X0) * (Y1 - Y0), den = X1 - X0;  // y (eighths) = num / den
     if (den < 0) num = -num, den = -den;
     long long q = floor_div(num, den);
@@ -84,7 +86,8 @@ BoundaryMasks brute_masks_eighths(int w, int h, long long X0, long long Y0, long
   }
   for (int k = 0; k <= 2 * h; ++k) {  // horizontal lines y = k/2
     const long long L = 4LL * k;
-    if ((Y0 < L) == (Y1 < L) || (k % 2 && k / 2 >= h)) continue;
+    const bool crossed = (Y0 < L) != (Y1 < L) || (L == 0 && std::min(Y0, Y1) == 0 && Y0 != Y1);
+    if (!crossed || (k % 2 && k / 2 >= h)) continue;
     long long num = X0 * (Y1 - Y0) + (L - Y0) * (X1 - X0), den = Y1 - Y0;
     if (den < 0) num = -num, den = -den;
     mark(k % 2 ? m.centre_h : m.top, floor_div(num, den), k / 2, false);  // x + e: a boundary stays
