@@ -1,5 +1,7 @@
 #include "render/point_cache.h"
 
+#include "render/point_cache_detail.h"
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -16,25 +18,22 @@ namespace epi::render {
 
 namespace {
 
-constexpr size_t kAgeBins = 258;  // ages 0..255 (capped), then off screen
-constexpr uint64_t kEmptyKey = ~uint64_t(0);
-constexpr uint32_t kIndexMask = 0x0fffffffu;  // point index; bits 28-31 hold the sub-pixel region
-constexpr float kMinLobeWidth = 0.02f;         // radians: narrower lobes age as if this wide
+using namespace detail;
 
-// Z-buffer key: depth first (positive floats order like their bits), then region and index.
-uint64_t zkey(float depth, int region, uint32_t index) {
-  return uint64_t(std::bit_cast<uint32_t>(depth)) << 32 | uint64_t(region) << 28 | index;
-}
-
-void atomic_min(uint64_t& slot, uint64_t value) {
-  std::atomic_ref<uint64_t> ref(slot);
-  uint64_t current = ref.load(std::memory_order_relaxed);
-  while (value < current && !ref.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
-  }
-}
+constexpr float kMinLobeWidth = 0.02f;  // radians: narrower lobes age as if this wide
+// The fast path's fixed work units: blocks of points, square tiles and bands of rows of the image.
+constexpr size_t kPointBlock = 16384;
+constexpr int kTileSize = 64, kBandRows = 8;
+constexpr uint32_t kNoPixel = ~uint32_t(0);  // a point not drawn this frame
+constexpr uint16_t kShowsNothing = 0x8000;     // age bin flag: shows_nothing (fill_epi leaves the pixel empty)
 
 uint32_t pack_srgb(const glm::vec3& c) {
   return uint32_t(encode_srgb8(c.r)) | uint32_t(encode_srgb8(c.g)) << 8 | uint32_t(encode_srgb8(c.b)) << 16;
+}
+
+uint32_t pack_srgb_by_steps(const glm::vec3& c) {
+  return uint32_t(encode_srgb8_by_steps(c.r)) | uint32_t(encode_srgb8_by_steps(c.g)) << 8 |
+         uint32_t(encode_srgb8_by_steps(c.b)) << 16;
 }
 
 // Octahedral unit vector packing, 16 bits per coordinate.
@@ -48,16 +47,6 @@ uint32_t pack_unit(glm::vec3 n) {
   return q(e.x) | q(e.y) << 16;
 }
 
-glm::vec3 unpack_unit(uint32_t packed) {
-  glm::vec2 e(float(packed & 0xffffu) / 65535.0f * 2.0f - 1.0f, float(packed >> 16) / 65535.0f * 2.0f - 1.0f);
-  glm::vec3 n(e.x, e.y, 1.0f - std::abs(e.x) - std::abs(e.y));
-  if (n.z < 0.0f) {
-    const glm::vec2 f = (1.0f - glm::abs(glm::vec2(e.y, e.x))) * glm::vec2(e.x >= 0.0f ? 1.0f : -1.0f, e.y >= 0.0f ? 1.0f : -1.0f);
-    n.x = f.x, n.y = f.y;
-  }
-  return glm::normalize(n);
-}
-
 float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
 bool shading_changed(const glm::vec3& before, const glm::vec3& after, float threshold) {
@@ -67,6 +56,26 @@ bool shading_changed(const glm::vec3& before, const glm::vec3& after, float thre
 }
 
 }  // namespace
+
+uint8_t encode_srgb8_by_steps(float linear) {
+  // steps[k]: the least float that encodes to k or more, by bisection over float bit patterns.
+  static const std::array<float, 256> steps = [] {
+    std::array<float, 256> t{};
+    for (int k = 1; k < 256; ++k) {
+      uint32_t below = 0, at = std::bit_cast<uint32_t>(1.0f);  // encode_srgb8(0) = 0, encode_srgb8(1) = 255
+      while (at - below > 1) {
+        const uint32_t mid = below + (at - below) / 2;
+        (encode_srgb8(std::bit_cast<float>(mid)) >= k ? at : below) = mid;
+      }
+      t[size_t(k)] = std::bit_cast<float>(at);
+    }
+    return t;
+  }();
+  int k = 0;
+  for (int step = 128; step >= 1; step >>= 1)
+    if (steps[size_t(k + step)] <= linear) k += step;
+  return uint8_t(k);
+}
 
 PointCache::PointCache(int width, int height, const PointCacheSettings& settings) : settings_(settings) {
   if (width <= 0 || height <= 0) throw std::invalid_argument("point cache: image size is not positive");
@@ -108,97 +117,165 @@ uint8_t PointCache::view_staleness(const CachePoint& p, const glm::vec3& to_eye)
 }
 
 ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull) {
+  if (settings_.reference_path) return project_reference(frame, object_to_world, depth_cull);
   const int w = image_.width, h = image_.height;
   if (frame.view().width != w || frame.view().height != h)
     throw std::invalid_argument("point cache: view size differs from the cache's image size");
-  std::fill(zbuffer_.begin(), zbuffer_.end(), kEmptyKey);
   const float znear = std::max(frame.view().camera.znear, 0.0f);
   const int max_age = settings_.max_age;
   // The eye in each object's space: a point's stored normal faces the eye it was shaded from, and
   // a point whose surface now faces away from the eye is not drawn (back_facing).
   eye_local_.resize(object_to_world.size());
   for (size_t o = 0; o < object_to_world.size(); ++o) eye_local_[o] = glm::vec3(glm::inverse(object_to_world[o]) * glm::vec4(frame.eye(), 1.0f));
+  const int tiles_x = (w + kTileSize - 1) / kTileSize, tiles_y = (h + kTileSize - 1) / kTileSize;
+  const size_t tiles = size_t(tiles_x) * size_t(tiles_y);
+  auto tile_of = [&](uint32_t pixel) { return size_t(pixel / uint32_t(w) / kTileSize) * size_t(tiles_x) + pixel % uint32_t(w) / kTileSize; };
 
-  // Aging and projection with a z-buffer (points in parallel; the minimum key wins).
-  struct Counts {
-    size_t projected = 0, expired = 0, back_facing = 0;
-    std::array<uint32_t, kAgeBins> ages{};  // eviction order: age, off-screen points in the top bin
-  };
-  const Counts counts = tbb::parallel_reduce(
-      tbb::blocked_range<size_t>(0, points_.size(), 4096), Counts{},
-      [&](const tbb::blocked_range<size_t>& range, Counts c) {
-        for (size_t i = range.begin(); i != range.end(); ++i) {
-          CachePoint& p = points_[i];
-          if (!p.valid) continue;
-          p.age = uint16_t(std::min(p.age + 1, 0xffff));
-          const glm::vec3 world = world_position(p, frame, object_to_world);
-          p.staleness = view_staleness(p, frame.eye() - world);
-          const Projection proj = frame.project(world);
-          const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
-                              proj.pixel.x < float(w) && proj.pixel.y < float(h);
-          if (!inside) {
-            p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
-            p.image_id = -1;
-          }
-          if (p.age > max_age) {
-            p.valid = false, p.image_id = -1;
-            ++c.expired;
-            continue;
-          }
-          ++c.ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
-          if (!inside) continue;
-          if (back_facing(p)) {
-            p.image_id = -1;
-            ++c.back_facing;
-            continue;
-          }
-          const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
-          const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
-          const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
-          const size_t pixel = size_t(py) * size_t(w) + size_t(px);
-          p.image_id = int32_t(pixel);
-          atomic_min(zbuffer_[pixel], zkey(proj.depth, rx + 4 * ry, uint32_t(i)));
-          ++c.projected;
-        }
-        return c;
-      },
-      [](Counts a, const Counts& b) {
-        a.projected += b.projected, a.expired += b.expired, a.back_facing += b.back_facing;
-        for (size_t k = 0; k < kAgeBins; ++k) a.ages[k] += b.ages[k];
-        return a;
-      });
-
-  // Unpack the z-buffer.
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, zbuffer_.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const uint64_t key = zbuffer_[i];
-      if (key == kEmptyKey) {
-        winners_[i] = -1;
-        image_.depth[i] = std::numeric_limits<float>::infinity();
+  // 1. Aging and projection (blocks of points in parallel): each point's z-buffer key and pixel
+  // (kNoPixel: not drawn), counted per tile.
+  const size_t n = points_.size();
+  point_blocks_.resize((n + kPointBlock - 1) / kPointBlock);
+  key_.resize(n), pixel_.resize(n), word_.resize(n), age_bin_.resize(n);
+  tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
+    PointBlock& block = point_blocks_[b];
+    std::array<uint32_t, kAgeBins> ages{};
+    size_t projected = 0, expired = 0, back_facing_points = 0;
+    block.free.clear();
+    block.tile_count.assign(tiles, 0);
+    for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
+      CachePoint& p = points_[i];
+      pixel_[i] = kNoPixel;
+      if (!p.valid) {
+        block.free.push_back(uint32_t(i));
         continue;
       }
-      winners_[i] = int32_t(uint32_t(key) & kIndexMask);
-      image_.depth[i] = std::bit_cast<float>(uint32_t(key >> 32));
-      image_.region[i] = uint8_t((uint32_t(key) >> 28) & 15);
+      p.age = uint16_t(std::min(p.age + 1, 0xffff));
+      const glm::vec3 world = world_position(p, frame, object_to_world);
+      p.staleness = view_staleness(p, frame.eye() - world);
+      const Projection proj = frame.project(world);
+      const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
+                          proj.pixel.x < float(w) && proj.pixel.y < float(h);
+      if (!inside) {
+        p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
+        p.image_id = -1;
+      }
+      if (p.age > max_age) {
+        p.valid = false, p.image_id = -1;
+        ++expired;
+        block.free.push_back(uint32_t(i));
+        continue;
+      }
+      ++ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
+      if (!inside) continue;
+      if (back_facing(p)) {
+        p.image_id = -1;
+        ++back_facing_points;
+        continue;
+      }
+      const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
+      const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
+      const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
+      const uint32_t pixel = uint32_t(py) * uint32_t(w) + uint32_t(px);
+      p.image_id = int32_t(pixel);
+      key_[i] = zkey(proj.depth, rx + 4 * ry, uint32_t(i));
+      pixel_[i] = pixel;
+      word_[i] = epi_color_word(p);
+      age_bin_[i] = uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p) ? kShowsNothing : 0));
+      ++block.tile_count[tile_of(pixel)];
+      ++projected;
+    }
+    block.projected = projected, block.expired = expired, block.back_facing = back_facing_points;
+    block.ages.assign(ages.begin(), ages.end());
+  });
+  size_t projected = 0, expired = 0, back_facing_points = 0;
+  age_histogram_.assign(kAgeBins, 0);
+  for (const PointBlock& block : point_blocks_) {
+    projected += block.projected, expired += block.expired, back_facing_points += block.back_facing;
+    for (size_t k = 0; k < kAgeBins; ++k) age_histogram_[k] += block.ages[k];
+  }
+
+  // 2. Binning by tile (a counting sort: tile-major, then block order): tile_begin_[t] is where
+  // tile t's keys start in binned_key_; each block's tile_count becomes its write cursor.
+  tile_begin_.assign(tiles + 1, 0);
+  for (size_t t = 0; t < tiles; ++t) {
+    uint32_t at = tile_begin_[t];
+    for (PointBlock& block : point_blocks_) {
+      const uint32_t count = block.tile_count[t];
+      block.tile_count[t] = at;
+      at += count;
+    }
+    tile_begin_[t + 1] = at;
+  }
+  binned_key_.resize(projected), binned_pixel_.resize(projected), binned_word_.resize(projected), binned_age_bin_.resize(projected);
+  tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
+    PointBlock& block = point_blocks_[b];
+    for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
+      if (pixel_[i] == kNoPixel) continue;
+      const uint32_t at = block.tile_count[tile_of(pixel_[i])]++;
+      binned_key_[at] = key_[i], binned_pixel_[at] = pixel_[i], binned_word_[at] = word_[i], binned_age_bin_[at] = age_bin_[i];
     }
   });
 
-  std::copy(winners_.begin(), winners_.end(), image_.point.begin());
-  const size_t culled = depth_cull ? this->depth_cull({}) : 0;
-
-  // Free the slots of expired points.
-  if (counts.expired > 0) {
-    free_slots_.clear();
-    for (size_t i = points_.size(); i-- > 0;)
-      if (!points_[i].valid) free_slots_.push_back(uint32_t(i));
+  // 3. Per tile (in parallel; a tile owns its pixels): the z-buffer's minimum keys, unpacked into
+  // the image; without a depth cull, the drawn points' ages are counted in the same pass.
+  tile_blocks_.resize(tiles);
+  pixel_word_.resize(zbuffer_.size()), pixel_age_bin_.resize(zbuffer_.size());
+  tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
+    const int x0 = int(t % size_t(tiles_x)) * kTileSize, y0 = int(t / size_t(tiles_x)) * kTileSize;
+    const int x1 = std::min(w, x0 + kTileSize), y1 = std::min(h, y0 + kTileSize);
+    for (int y = y0; y < y1; ++y) std::fill(&zbuffer_[image_.index(x0, y)], &zbuffer_[image_.index(x0, y)] + (x1 - x0), kEmptyKey);
+    for (uint32_t k = tile_begin_[t]; k != tile_begin_[t + 1]; ++k)
+      if (const uint32_t pixel = binned_pixel_[k]; binned_key_[k] < zbuffer_[pixel])
+        zbuffer_[pixel] = binned_key_[k], pixel_word_[pixel] = binned_word_[k], pixel_age_bin_[pixel] = binned_age_bin_[k];
+    for (int y = y0; y < y1; ++y)
+      for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i) {
+        const uint64_t key = zbuffer_[i];
+        if (key == kEmptyKey) {
+          winners_[i] = image_.point[i] = -1;
+          image_.depth[i] = std::numeric_limits<float>::infinity();
+          continue;
+        }
+        winners_[i] = image_.point[i] = int32_t(uint32_t(key) & kIndexMask);
+        image_.depth[i] = std::bit_cast<float>(uint32_t(key >> 32));
+        image_.region[i] = uint8_t((uint32_t(key) >> 28) & 15);
+      }
+    if (!depth_cull) count_drawn(t, x0, y0, x1, y1);
+  });
+  size_t culled = 0;
+  if (depth_cull) {
+    culled = this->depth_cull({});
+    tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
+      const int x0 = int(t % size_t(tiles_x)) * kTileSize, y0 = int(t / size_t(tiles_x)) * kTileSize;
+      count_drawn(t, x0, y0, std::min(w, x0 + kTileSize), std::min(h, y0 + kTileSize));
+    });
   }
-  age_histogram_.assign(counts.ages.begin(), counts.ages.end());
-  for (const int32_t q : image_.point)
-    if (q >= 0) --age_histogram_[kAgeBins - 1], ++age_histogram_[std::min<size_t>(points_[size_t(q)].age, kAgeBins - 2)];
+
+  // Free the slots of expired points (all free slots, in descending order).
+  if (expired > 0) {
+    free_slots_.clear();
+    for (size_t b = point_blocks_.size(); b-- > 0;)
+      free_slots_.insert(free_slots_.end(), point_blocks_[b].free.rbegin(), point_blocks_[b].free.rend());
+  }
+  size_t drawn = 0;
+  for (const TileBlock& block : tile_blocks_) {
+    drawn += block.drawn;
+    age_histogram_[kAgeBins - 1] -= uint32_t(block.drawn);
+    for (size_t k = 0; k + 1 < kAgeBins; ++k) age_histogram_[k] += block.ages[k];
+  }
   last_frame_.emplace(frame);
   last_transforms_.assign(object_to_world.begin(), object_to_world.end());
-  const size_t drawn = size_t(std::count_if(image_.point.begin(), image_.point.end(), [](int32_t q) { return q >= 0; }));
-  return {counts.projected, drawn, culled, 0, counts.expired, counts.back_facing};
+  pixel_words_current_ = true;
+  return {projected, drawn, culled, 0, expired, back_facing_points};
+}
+
+void PointCache::count_drawn(size_t tile, int x0, int y0, int x1, int y1) {
+  std::array<uint32_t, kAgeBins> ages{};
+  size_t drawn = 0;
+  for (int y = y0; y < y1; ++y)
+    for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i)
+      if (image_.point[i] >= 0) ++drawn, ++ages[pixel_age_bin_[i] & ~kShowsNothing];
+  tile_blocks_[tile].drawn = drawn;
+  tile_blocks_[tile].ages.assign(ages.begin(), ages.end());
 }
 
 bool PointCache::back_facing(const CachePoint& p) const {
@@ -214,6 +291,7 @@ bool PointCache::drawn(size_t slot) const {
 }
 
 size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
+  if (settings_.reference_path) return depth_cull_reference(edge_pixels);
   const int w = image_.width, h = image_.height;
   const bool edges = edge_pixels.size() == image_.point.size();
   // Near a silhouette or border the far side is visible: the mean would remove it.
@@ -225,32 +303,28 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
     return false;
   };
   const float cull_scale = 1.0f + settings_.depth_cull_offset;
-  std::vector<uint8_t> cull(image_.point.size(), 0);
-  const size_t culled = tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, h, 8), size_t(0),
-      [&](const tbb::blocked_range<int>& rows, size_t count) {
-        for (int y = rows.begin(); y != rows.end(); ++y)
-          for (int x = 0; x < w; ++x) {
-            const size_t i = image_.index(x, y);
-            if (image_.point[i] < 0 || protected_pixel(x, y)) continue;
-            double sum = 0.0;
-            int n = 0;
-            for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
-              for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx) {
-                const size_t q = image_.index(qx, qy);
-                if (image_.point[q] < 0) continue;
-                sum += image_.depth[q];
-                ++n;
-              }
-            if (image_.depth[i] > float(sum / n) * cull_scale) cull[i] = 1, ++count;
+  // The 3x3 mean is at least the 3x3 minimum (also as rounded), so a pixel no deeper than the
+  // minimum x (1 + offset) (most of them) keeps its point without the mean.
+  window_min_depth(1);
+  // The means see the z-buffer's winners: culled pixels are listed per band, removed after.
+  for_bands(h, [&](int y0, int y1, std::vector<uint32_t>& culled) {
+    for (int y = y0; y != y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = image_.index(x, y);
+        if (!(image_.depth[i] > min_depth_[i] * cull_scale) || image_.point[i] < 0) continue;
+        double sum = 0.0;
+        int n = 0;
+        for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
+          for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx) {
+            const size_t q = image_.index(qx, qy);
+            if (image_.point[q] < 0) continue;
+            sum += image_.depth[q];
+            ++n;
           }
-        return count;
-      },
-      std::plus<size_t>());
-  // Removed after the pass (the means see the z-buffer's winners); the depth of a culled pixel is +inf.
-  for (size_t i = 0; i < cull.size(); ++i)
-    if (cull[i]) image_.point[i] = -1, image_.depth[i] = std::numeric_limits<float>::infinity();
-  return culled;
+        if (image_.depth[i] > float(sum / n) * cull_scale && !protected_pixel(x, y)) culled.push_back(uint32_t(i));
+      }
+  });
+  return remove_listed();
 }
 
 size_t PointCache::take_slot() {
@@ -354,8 +428,9 @@ int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, con
 
 size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::span<const glm::mat4> object_to_world,
                           uint16_t epoch) {
-  std::vector<glm::mat4> to_object(object_to_world.size());
-  std::vector<uint8_t> inverted(object_to_world.size(), 0);
+  pixel_words_current_ = false;  // ages and colours may change
+  to_object_.resize(object_to_world.size());
+  inverted_.assign(object_to_world.size(), 0);
   const int w = image_.width, h = image_.height;
   if (free_slots_.size() < batch.results.size()) choose_evict_age(batch.results.size() - free_slots_.size());
   size_t inserted = 0;
@@ -370,9 +445,9 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
     point.valid = true;
     glm::vec3 world;
     if (r.hit && r.object < object_to_world.size()) {
-      if (!inverted[r.object]) to_object[r.object] = glm::inverse(object_to_world[r.object]), inverted[r.object] = 1;
+      if (!inverted_[r.object]) to_object_[r.object] = glm::inverse(object_to_world[r.object]), inverted_[r.object] = 1;
       point.object = r.object;
-      point.local = glm::vec3(to_object[r.object] * glm::vec4(r.position, 1.0f));
+      point.local = glm::vec3(to_object_[r.object] * glm::vec4(r.position, 1.0f));
       // Normals go to object space with the transpose of the object-to-world matrix.
       point.normal = pack_unit(glm::transpose(glm::mat3(object_to_world[r.object])) * r.normal);
       // Where the point was at the last projection (its object may have moved since the shot).
@@ -467,66 +542,107 @@ bool PointCache::refines(const CachePoint& cached, const CachePoint& result) con
 
 size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                         const EdgeCrossings& crossings) {
+  if (settings_.reference_path) return cull_behind_surfaces_reference(frame, object_to_world, crossings);
   const int w = image_.width, h = image_.height, radius = std::max(1, settings_.occlusion_radius);
   const float scale = 1.0f + settings_.occlusion_margin;
   // Normals back to world space: the inverse transpose of each object's matrix.
   normal_to_world_.resize(object_to_world.size());
   for (size_t o = 0; o < object_to_world.size(); ++o) normal_to_world_[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
+  // The nearest depth in each pixel's window: a pixel with no neighbour nearer by the margin
+  // (most of them) is skipped without looking at its neighbours.
+  window_min_depth(radius);
   // Where a drawn point lies in the image, exactly (the image keeps only its 4x4 region).
   auto position = [&](size_t i) {
     const glm::vec2 pixel = frame.project(world_position(points_[size_t(image_.point[i])], frame, object_to_world)).pixel;
     return glm::dvec2(pixel);
   };
-  hidden_.assign(image_.point.size(), 0);
-  const size_t removed = tbb::parallel_reduce(
-      tbb::blocked_range<int>(0, h, 8), size_t(0),
-      [&](const tbb::blocked_range<int>& rows, size_t count) {
-        for (int y = rows.begin(); y != rows.end(); ++y)
-          for (int x = 0; x < w; ++x) {
-            const size_t i = image_.index(x, y);
-            if (image_.point[i] < 0) continue;
-            const float depth = image_.depth[i];
-            Ray ray;
-            float ray_depth = 0.0f;  // depth per unit along the ray; the ray is made when first needed
-            glm::dvec2 at_p{0.0};
-            bool is_hidden = false;
-            for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius) && !is_hidden; ++qy)
-              for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius) && !is_hidden; ++qx) {
-                const size_t q = image_.index(qx, qy);
-                if (image_.point[q] < 0 || !(image_.depth[q] * scale < depth)) continue;
-                const CachePoint& near = points_[size_t(image_.point[q])];
-                if (near.object == kNone || near.object >= object_to_world.size()) continue;
-                if (ray_depth == 0.0f) {
-                  at_p = position(i);
-                  ray = frame.ray(float(at_p.x), float(at_p.y));
-                  ray_depth = glm::dot(ray.direction, frame.forward());
-                }
-                // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
-                const glm::vec3 n = glm::normalize(normal_to_world_[near.object] * unpack_unit(near.normal));
-                const glm::vec3 at = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));
-                const float facing = glm::dot(n, ray.direction);
-                if (std::abs(facing) < 0.1f) continue;
-                const float plane_depth = glm::dot(n, at - ray.origin) / facing * ray_depth;
-                if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) continue;
-                // Hidden unless a silhouette, border or sharp edge passes between the two points.
-                if (!crossings.separated(at_p, position(q))) is_hidden = true;
-              }
-            if (is_hidden) hidden_[i] = 1, ++count;
+  // The test sees the image before the pass: hidden pixels are listed per band, removed after.
+  for_bands(h, [&](int y0, int y1, std::vector<uint32_t>& hidden) {
+    for (int y = y0; y != y1; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = image_.index(x, y);
+        const float depth = image_.depth[i];
+        if (!(min_depth_[i] * scale < depth) || image_.point[i] < 0) continue;
+        Ray ray;
+        float ray_depth = 0.0f;  // depth per unit along the ray; the ray is made when first needed
+        glm::dvec2 at_p{0.0};
+        bool is_hidden = false;
+        for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius) && !is_hidden; ++qy)
+          for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius) && !is_hidden; ++qx) {
+            const size_t q = image_.index(qx, qy);
+            if (image_.point[q] < 0 || !(image_.depth[q] * scale < depth)) continue;
+            const CachePoint& near = points_[size_t(image_.point[q])];
+            if (near.object == kNone || near.object >= object_to_world.size()) continue;
+            if (ray_depth == 0.0f) {
+              at_p = position(i);
+              ray = frame.ray(float(at_p.x), float(at_p.y));
+              ray_depth = glm::dot(ray.direction, frame.forward());
+            }
+            // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
+            const glm::vec3 n = glm::normalize(normal_to_world_[near.object] * unpack_unit(near.normal));
+            const glm::vec3 at = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));
+            const float facing = glm::dot(n, ray.direction);
+            if (std::abs(facing) < 0.1f) continue;
+            const float plane_depth = glm::dot(n, at - ray.origin) / facing * ray_depth;
+            if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) continue;
+            // Hidden unless a silhouette, border or sharp edge passes between the two points.
+            if (!crossings.separated(at_p, position(q))) is_hidden = true;
           }
-        return count;
-      },
-      std::plus<size_t>());
-  for (size_t i = 0; i < hidden_.size(); ++i)
-    if (hidden_[i]) image_.point[i] = -1, image_.depth[i] = std::numeric_limits<float>::infinity();
+        if (is_hidden) hidden.push_back(uint32_t(i));
+      }
+  });
+  return remove_listed();
+}
+
+void PointCache::window_min_depth(int radius) {
+  const int w = image_.width, h = image_.height;
+  row_min_depth_.resize(image_.depth.size());
+  min_depth_.resize(image_.depth.size());
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y)
+      for (int x = 0; x < w; ++x) {
+        float m = std::numeric_limits<float>::infinity();
+        for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius); ++qx) m = std::min(m, image_.depth[image_.index(qx, y)]);
+        row_min_depth_[image_.index(x, y)] = m;
+      }
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y) {
+      float* out = &min_depth_[image_.index(0, y)];
+      std::fill(out, out + w, std::numeric_limits<float>::infinity());
+      for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius); ++qy) {
+        const float* in = &row_min_depth_[image_.index(0, qy)];
+        for (int x = 0; x < w; ++x) out[x] = std::min(out[x], in[x]);
+      }
+    }
+  });
+}
+
+template <class BandPass>
+void PointCache::for_bands(int height, const BandPass& pass) {
+  band_lists_.resize(size_t((height + kBandRows - 1) / kBandRows));
+  tbb::parallel_for(size_t(0), band_lists_.size(), [&](size_t b) {
+    band_lists_[b].clear();
+    pass(int(b) * kBandRows, std::min(height, int(b + 1) * kBandRows), band_lists_[b]);
+  });
+}
+
+size_t PointCache::remove_listed() {
+  size_t removed = 0;
+  for (const std::vector<uint32_t>& list : band_lists_) {
+    for (const uint32_t i : list) image_.point[i] = -1, image_.depth[i] = std::numeric_limits<float>::infinity();
+    removed += list.size();
+  }
   return removed;
 }
 
-uint32_t PointCache::display_srgb(const CachePoint& p) const {
+uint32_t PointCache::display_srgb(const CachePoint& p, bool by_steps) const {
   const float staleness = float(p.staleness) / 16.0f;
   if (staleness <= settings_.view_fade_start) return p.srgb;
   const float fade = std::clamp((staleness - settings_.view_fade_start) /
                                     std::max(settings_.view_fade_end - settings_.view_fade_start, 1e-3f), 0.0f, 1.0f);
-  return pack_srgb(p.color - p.view_dependent * fade);
+  const glm::vec3 shown = p.color - p.view_dependent * fade;
+  return by_steps ? pack_srgb_by_steps(shown) : pack_srgb(shown);
 }
 
 bool PointCache::shows_nothing(const CachePoint& p) const {
@@ -548,21 +664,25 @@ int PointCache::priority_age(const CachePoint& p) const {
 }
 
 void PointCache::fill_epi(EpiImage& epi) const {
+  if (settings_.reference_path) return fill_epi_reference(epi);
   if (epi.width != image_.width || epi.height != image_.height)
     throw std::invalid_argument("point cache: EPI size differs from the cache's image size");
   tbb::parallel_for(tbb::blocked_range<size_t>(0, image_.point.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const int32_t p = image_.point[i];
-      if (p < 0 || shows_nothing(points_[size_t(p)])) {
+      if (p < 0 || (pixel_words_current_ ? (pixel_age_bin_[i] & kShowsNothing) != 0 : shows_nothing(points_[size_t(p)]))) {
         epi.edge[i] = 0;
         epi.color[i] = 0;
         continue;
       }
-      const CachePoint& point = points_[size_t(p)];
       epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
-      epi.color[i] = display_srgb(point) | uint32_t(std::min<int>(priority_age(point), 255)) << bits::kAgeShift;
+      epi.color[i] = pixel_words_current_ ? pixel_word_[i] : epi_color_word(points_[size_t(p)]);
     }
   });
+}
+
+uint32_t PointCache::epi_color_word(const CachePoint& p) const {
+  return display_srgb(p, true) | uint32_t(std::min<int>(priority_age(p), 255)) << bits::kAgeShift;
 }
 
 }  // namespace epi::render

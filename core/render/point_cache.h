@@ -51,6 +51,9 @@ struct PointCacheSettings {
   // point's mean luminance over single_sample_error, clamped to [1/4, 4]; a single result counts as
   // that error (factor 1), so refined, converged points ask later and noisy ones sooner.
   float single_sample_error = 0.25f;
+  // The straightforward implementation of project, depth_cull, cull_behind_surfaces and fill_epi
+  // (point_cache_reference.cpp): the oracle the fast path matches bit for bit (tests, benchmarks).
+  bool reference_path = false;
 };
 
 // Per-pixel edge flags (the renderer's rasterized edges of the last frame).
@@ -93,6 +96,10 @@ struct ProjectionCounts {
   size_t expired = 0;    // points freed for exceeding the maximum age
   size_t back_facing = 0;  // points in the image whose surface faces away from the eye (not drawn)
 };
+
+// encode_srgb8 (epi_pixel.h) without its pow: a search of the 255 steps' least floats, found
+// once with encode_srgb8 itself. Equal to it for every float (docs/performance.md, "Point processing").
+uint8_t encode_srgb8_by_steps(float linear);
 
 class PointCache {
  public:
@@ -147,6 +154,7 @@ class PointCache {
   size_t hidden_removed() const { return hidden_removed_; }  // points whose slot a ray showed hidden
   size_t refined() const { return refined_; }                // results averaged into a point
   const PointCacheSettings& settings() const { return settings_; }
+  void use_reference_path(bool on) { settings_.reference_path = on, pixel_words_current_ = false; }  // see PointCacheSettings
   float background_depth() const { return background_depth_; }
 
  private:
@@ -157,14 +165,40 @@ class PointCache {
   static float view_share(const CachePoint& p);
   bool refines(const CachePoint& cached, const CachePoint& result) const;
   int priority_age(const CachePoint& p) const;
-  uint32_t display_srgb(const CachePoint& p) const;
-  bool shows_nothing(const CachePoint& p) const;  // stale and mostly view-dependent (view_drop_share)  // srgb, less the view-dependent part as it goes stale
+  // srgb, less the view-dependent part as it goes stale; by_steps: encoded with encode_srgb8_by_steps
+  uint32_t display_srgb(const CachePoint& p, bool by_steps = false) const;
+  bool shows_nothing(const CachePoint& p) const;  // stale and mostly view-dependent (view_drop_share)
   size_t take_slot();
-  bool drawn(size_t slot) const;
-  bool back_facing(const CachePoint& p) const;  // uses eye_local_ of the current projection  // the point is the one drawn at its pixel in the last projection
+  bool drawn(size_t slot) const;  // the point is the one drawn at its pixel in the last projection
+  bool back_facing(const CachePoint& p) const;  // uses eye_local_ of the current projection
   void choose_evict_age(size_t needed);
   int32_t find_hidden(const ViewFrame& shot, const ShadeResult& r, const glm::vec3& last_world,
                       std::span<const glm::mat4> object_to_world) const;
+  // The reference path (PointCacheSettings::reference_path).
+  ProjectionCounts project_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull);
+  size_t depth_cull_reference(std::span<const uint8_t> edge_pixels);
+  size_t cull_behind_surfaces_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
+                                        const EdgeCrossings& crossings);
+  void fill_epi_reference(EpiImage& epi) const;
+  // The fast path's per-block partial results, kept between frames (nothing is reallocated).
+  struct PointBlock {  // kPointBlock points of the cloud
+    size_t projected = 0, expired = 0, back_facing = 0;
+    std::vector<uint32_t> ages;        // eviction order, as age_histogram_
+    std::vector<uint32_t> free;        // invalid slots, ascending
+    std::vector<uint32_t> tile_count;  // points drawn per tile, then the binning's write cursor
+  };
+  struct TileBlock {  // a kTileSize^2 tile of the image
+    size_t drawn = 0;
+    std::vector<uint32_t> ages;  // of the drawn points
+  };
+  void count_drawn(size_t tile, int x0, int y0, int x1, int y1);
+  uint32_t epi_color_word(const CachePoint& p) const;  // fill_epi's colour word: display colour and priority age
+  void window_min_depth(int radius);  // min_depth_: the least depth over each pixel's (2r+1)^2 window
+  // Runs pass(first row, end row, list) over bands of rows in parallel, each with its own cleared
+  // list in band_lists_; remove_listed() then empties the listed pixels and counts them.
+  template <class BandPass>
+  void for_bands(int height, const BandPass& pass);
+  size_t remove_listed();
 
   PointCacheSettings settings_;
   std::vector<CachePoint> points_;
@@ -176,10 +210,30 @@ class PointCache {
   PointImage image_;
   std::vector<uint64_t> zbuffer_;  // (depth bits << 32) | point index, min wins
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull
-  std::vector<uint8_t> no_refine_;  // see set_refine_mask
-  std::vector<uint8_t> hidden_;             // cull_behind_surfaces' verdicts
-  std::vector<glm::mat3> normal_to_world_;  // ... and its normal matrices
+  std::vector<PointBlock> point_blocks_;
+  std::vector<TileBlock> tile_blocks_;
+  // Per point, this frame: z-buffer key, pixel (kNoPixel: none), EPI colour word, age histogram bin.
+  std::vector<uint64_t> key_;
+  std::vector<uint32_t> pixel_, word_;
+  std::vector<uint16_t> age_bin_;
+  // The same, binned by tile: tile t's are binned_*[tile_begin_[t], tile_begin_[t + 1]).
+  std::vector<uint32_t> tile_begin_;
+  std::vector<uint64_t> binned_key_;
+  std::vector<uint32_t> binned_pixel_, binned_word_;
+  std::vector<uint16_t> binned_age_bin_;
+  // The EPI colour word and age bin of each pixel's z-buffer winner, made while the projection
+  // streams the cloud (fill_epi then reads no point); the words are current until an insert.
+  std::vector<uint32_t> pixel_word_;
+  std::vector<uint16_t> pixel_age_bin_;
+  bool pixel_words_current_ = false;
+  std::vector<std::vector<uint32_t>> band_lists_;  // depth_cull, cull_behind_surfaces: pixels to empty
+  std::vector<float> row_min_depth_, min_depth_;    // window_min_depth
+  std::vector<glm::mat3> normal_to_world_;  // cull_behind_surfaces' normal matrices
+  std::vector<uint8_t> hidden_;             // ... and the reference path's verdicts
   std::vector<glm::vec3> eye_local_;        // the eye in each object's space (project)
+  std::vector<glm::mat4> to_object_;  // insert: inverse object transforms
+  std::vector<uint8_t> inverted_;
+  std::vector<uint8_t> no_refine_;  // see set_refine_mask
   float background_depth_ = 1e6f;  // where background points are placed along their direction
   std::optional<ViewFrame> last_frame_;
   std::vector<glm::mat4> last_transforms_;  // the placement of the last projection

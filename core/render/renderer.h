@@ -114,6 +114,7 @@ class FrameRenderer {
   const BoundaryMasks& masks() const { return masks_; }       // and its boundary masks (EPI snapshots)
   const std::vector<edges::EdgeKind>& segment_kinds() const { return segment_kinds_; }  // one per piece
   const std::vector<float>& filtered_depth() const { return filtered_depth_; }
+  const std::vector<uint8_t>& edge_pixels() const { return edge_pixels_; }  // epi mode: this frame's, by kind (point_cache.h)
   const std::vector<edges::SceneEdge>& scene_edges() const { return edges_; }  // this frame's, world space
   const edges::SceneEdgeFinder* edge_finder() const { return finder_.get(); }
   double edge_finder_build_ms() const { return finder_ ? finder_->build_ms() : 0.0; }
