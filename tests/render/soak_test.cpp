@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <unistd.h>
@@ -30,10 +31,12 @@ double resident_bytes() {
   return resident * double(::sysconf(_SC_PAGESIZE));
 }
 
-double median(std::vector<double> v) {
+double quantile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v[v.size() / 2];
+  return v.empty() ? 0.0 : v[size_t(q * double(v.size() - 1))];
 }
+double median(std::vector<double> v) { return quantile(std::move(v), 0.5); }
+double low_decile(std::vector<double> v) { return quantile(std::move(v), 0.1); }
 
 TEST(Soak, MovingCameraObjectAndLightWithAsyncShadingStayFiniteBoundedAndSteady) {
   const char* env = std::getenv("EPI_SOAK_FRAMES");
@@ -59,7 +62,7 @@ TEST(Soak, MovingCameraObjectAndLightWithAsyncShadingStayFiniteBoundedAndSteady)
   constexpr int kPeriod = 100;
   const double w = 2.0 * 3.14159265358979 / kPeriod;
   double memory_after_warm_up = 0.0, memory_peak = 0.0;
-  std::vector<double> frame_ms, period_medians;
+  std::vector<double> frame_ms, period_fast;
   for (int f = 0; f < frames; ++f) {
     const double t = double(f);
     Camera camera = scene.cameras.front();
@@ -85,17 +88,18 @@ TEST(Soak, MovingCameraObjectAndLightWithAsyncShadingStayFiniteBoundedAndSteady)
     if (memory_after_warm_up == 0.0) memory_after_warm_up = memory;
     // Bounded: the point cache, edges and images have fixed capacities.
     EXPECT_LT(memory, memory_after_warm_up * 1.25 + 16e6) << "resident memory grows";
-    if (f + 1 > kPeriod) period_medians.push_back(median(std::vector<double>(frame_ms.end() - kPeriod, frame_ms.end())));
+    if (f + 1 > kPeriod) period_fast.push_back(low_decile(std::vector<double>(frame_ms.end() - kPeriod, frame_ms.end())));
   }
-  ASSERT_GE(period_medians.size(), 2u) << "EPI_SOAK_FRAMES: at least 300";
-  // No drift: the last period's median frame time within 3x (+5 ms) of the first after warm-up
-  // (medians over a period absorb most of the noise; the rest is other programs' load on a
-  // shared machine, which has moved 8.9 ms to 20 ms medians between periods).
-  EXPECT_LT(period_medians.back(), 3.0 * period_medians.front() + 5.0)
-      << "frame time drifted from " << period_medians.front() << " ms to " << period_medians.back() << " ms";
-  std::printf("soak: %d frames, median frame %.2f ms (first period after warm-up %.2f, last %.2f), resident %.1f MB after warm-up, "
+  ASSERT_GE(period_fast.size(), 2u) << "EPI_SOAK_FRAMES: at least 300";
+  // No drift: the last period's fast frames (its 10th percentile) within 3x (+5 ms) of the first
+  // period's after warm-up. Growing work raises every frame; other programs' load on a shared
+  // machine raises many frames but rarely the fastest tenth (medians moved 3.8 -> 18.8 ms in a
+  // loaded ctest run with no drift).
+  EXPECT_LT(period_fast.back(), 3.0 * period_fast.front() + 5.0)
+      << "frame time drifted from " << period_fast.front() << " ms to " << period_fast.back() << " ms";
+  std::printf("soak: %d frames, median frame %.2f ms (10th percentile: first period after warm-up %.2f, last %.2f), resident %.1f MB after warm-up, "
               "peak %.1f MB\n",
-              frames, median(frame_ms), period_medians.front(), period_medians.back(), memory_after_warm_up / 1e6,
+              frames, median(frame_ms), period_fast.front(), period_fast.back(), memory_after_warm_up / 1e6,
               memory_peak / 1e6);
 }
 
