@@ -31,7 +31,9 @@ TEST(HoleFill, HolesTakeTheirOwnRegionsColourAndNeverCrossAnEdge) {
         EXPECT_EQ(p[x < 12 ? 0 : 2], 1.0f) << x << "," << y;
         EXPECT_EQ(p[x < 12 ? 2 : 0], 0.0f) << x << "," << y;
       }
-      if (x == 12) EXPECT_GT(p[0] + p[2], 0.99f) << y;  // on the edge: a mix of its neighbours, not black
+      if (x == 12) {
+        EXPECT_GT(p[0] + p[2], 0.99f) << y;  // on the edge: a mix of its neighbours, not black
+      }
     }
 }
 
