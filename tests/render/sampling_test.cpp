@@ -113,7 +113,8 @@ TEST(Dither, EveryStripOfRowsGetsItsShareAtEveryDensity) {
 TEST(Dither, TheSamePicksWhateverTheThreadCount) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-  for (auto [w, h] : {std::pair{512, 512}, std::pair{333, 270}, std::pair{64, 700}}) {
+  for (const auto& size : {std::pair{512, 512}, std::pair{333, 270}, std::pair{64, 700}}) {
+    const int w = size.first, h = size.second;  // (clang 14 cannot capture structured bindings)
     std::vector<float> priority = smooth_priority(w, h, uint32_t(w));
     for (size_t i = 0; i < priority.size(); i += 1 + rng() % 5) priority[i] = unit(rng) < 0.5f ? 0.0f : 16.0f;
     for (double density : {0.002, 0.02, 0.3}) {
