@@ -540,6 +540,43 @@ bool PointCache::refines(const CachePoint& cached, const CachePoint& result) con
   return true;
 }
 
+bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
+                                           const EdgeCrossings& crossings, int x, int y) const {
+  const int w = image_.width, h = image_.height, radius = std::max(1, settings_.occlusion_radius);
+  const float scale = 1.0f + settings_.occlusion_margin;
+  const size_t i = image_.index(x, y);
+  const float depth = image_.depth[i];
+  // Where a drawn point lies in the image, exactly (the image keeps only its 4x4 region).
+  auto position = [&](size_t pixel) {
+    return glm::dvec2(frame.project(world_position(points_[size_t(image_.point[pixel])], frame, object_to_world)).pixel);
+  };
+  Ray ray;
+  float ray_depth = 0.0f;  // depth per unit along the ray; the ray is made when first needed
+  glm::dvec2 at_p{0.0};
+  for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius); ++qy)
+    for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius); ++qx) {
+      const size_t q = image_.index(qx, qy);
+      if (image_.point[q] < 0 || !(image_.depth[q] * scale < depth)) continue;
+      const CachePoint& near = points_[size_t(image_.point[q])];
+      if (near.object == kNone || near.object >= object_to_world.size()) continue;
+      if (ray_depth == 0.0f) {
+        at_p = position(i);
+        ray = frame.ray(float(at_p.x), float(at_p.y));
+        ray_depth = glm::dot(ray.direction, frame.forward());
+      }
+      // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
+      const glm::vec3 n = glm::normalize(normal_to_world_[near.object] * unpack_unit(near.normal));
+      const glm::vec3 at = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));
+      const float facing = glm::dot(n, ray.direction);
+      if (std::abs(facing) < 0.1f) continue;
+      const float plane_depth = glm::dot(n, at - ray.origin) / facing * ray_depth;
+      if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) continue;
+      // Hidden unless a silhouette, border or sharp edge passes between the two points.
+      if (!crossings.separated(at_p, position(q))) return true;
+    }
+  return false;
+}
+
 size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                         const EdgeCrossings& crossings) {
   if (settings_.reference_path) return cull_behind_surfaces_reference(frame, object_to_world, crossings);
@@ -551,11 +588,6 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   // The nearest depth in each pixel's window: a pixel with no neighbour nearer by the margin
   // (most of them) is skipped without looking at its neighbours.
   window_min_depth(radius);
-  // Where a drawn point lies in the image, exactly (the image keeps only its 4x4 region).
-  auto position = [&](size_t i) {
-    const glm::vec2 pixel = frame.project(world_position(points_[size_t(image_.point[i])], frame, object_to_world)).pixel;
-    return glm::dvec2(pixel);
-  };
   // The test sees the image before the pass: hidden pixels are listed per band, removed after.
   for_bands(h, [&](int y0, int y1, std::vector<uint32_t>& hidden) {
     for (int y = y0; y != y1; ++y)
@@ -563,32 +595,7 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
         const size_t i = image_.index(x, y);
         const float depth = image_.depth[i];
         if (!(min_depth_[i] * scale < depth) || image_.point[i] < 0) continue;
-        Ray ray;
-        float ray_depth = 0.0f;  // depth per unit along the ray; the ray is made when first needed
-        glm::dvec2 at_p{0.0};
-        bool is_hidden = false;
-        for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius) && !is_hidden; ++qy)
-          for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius) && !is_hidden; ++qx) {
-            const size_t q = image_.index(qx, qy);
-            if (image_.point[q] < 0 || !(image_.depth[q] * scale < depth)) continue;
-            const CachePoint& near = points_[size_t(image_.point[q])];
-            if (near.object == kNone || near.object >= object_to_world.size()) continue;
-            if (ray_depth == 0.0f) {
-              at_p = position(i);
-              ray = frame.ray(float(at_p.x), float(at_p.y));
-              ray_depth = glm::dot(ray.direction, frame.forward());
-            }
-            // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
-            const glm::vec3 n = glm::normalize(normal_to_world_[near.object] * unpack_unit(near.normal));
-            const glm::vec3 at = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));
-            const float facing = glm::dot(n, ray.direction);
-            if (std::abs(facing) < 0.1f) continue;
-            const float plane_depth = glm::dot(n, at - ray.origin) / facing * ray_depth;
-            if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) continue;
-            // Hidden unless a silhouette, border or sharp edge passes between the two points.
-            if (!crossings.separated(at_p, position(q))) is_hidden = true;
-          }
-        if (is_hidden) hidden.push_back(uint32_t(i));
+        if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y)) hidden.push_back(uint32_t(i));
       }
   });
   return remove_listed();

@@ -177,6 +177,9 @@ class PointCache {
   // The reference path (PointCacheSettings::reference_path).
   ProjectionCounts project_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull);
   size_t depth_cull_reference(std::span<const uint8_t> edge_pixels);
+  // The occlusion test of one drawn pixel (both paths; normal_to_world_ made for this frame).
+  bool hidden_behind_a_neighbour(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
+                                 const EdgeCrossings& crossings, int x, int y) const;
   size_t cull_behind_surfaces_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                         const EdgeCrossings& crossings);
   void fill_epi_reference(EpiImage& epi) const;
