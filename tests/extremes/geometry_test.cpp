@@ -76,8 +76,12 @@ TEST(CameraExtremes, AtTheNearPlane) {
     const Rendered run = render_frames(scene, {c, c, c, c}, settings(48, 48));
     EXPECT_EQ(run.insane, 0u);
     const size_t red = count_pixels(run.image, reddish);
-    if (factor > 1.0f) EXPECT_EQ(red, 48u * 48u);
-    if (factor < 1.0f) EXPECT_EQ(red, 0u);
+    if (factor > 1.0f) {
+      EXPECT_EQ(red, 48u * 48u);
+    }
+    if (factor < 1.0f) {
+      EXPECT_EQ(red, 0u);
+    }
   }
   // The eye inside the near distance of a box corner: the box's edges cross the near plane.
   std::vector<Camera> cameras;
@@ -243,7 +247,9 @@ TEST(LightExtremes, AnAreaLightOnASurface) {
     for (const edges::SceneEdge& e : run.edges) soft += e.kind == edges::EdgeKind::umbral || e.kind == edges::EdgeKind::penumbral;
     // Standing, the box casts a penumbra on the ground: soft-shadow edges found (and finite:
     // render_frames checks). Lying in the ground's plane, the light grazes the ground: none there.
-    if (standing) EXPECT_GT(soft, 0u);
+    if (standing) {
+      EXPECT_GT(soft, 0u);
+    }
   }
 }
 
