@@ -27,10 +27,10 @@ struct InterpolateRow {
   const uint8_t* types;
   const uint32_t* reach;
   const uint32_t* color;
-  // Outputs, width each: colours (3 floats per pixel), total weight (0: nothing reached; the
-  // colour and priority are then the caller's: the oracle's fallback), priority.
+  // Outputs, width each: colours (3 floats per pixel), found (1: some sample reached, else 0:
+  // the colour and priority are then the caller's, the oracle's fallback), priority.
   float* rgb;
-  float* total;
+  uint8_t* found;
   float* priority;
 };
 
@@ -141,7 +141,7 @@ struct RowKernels {
   void (*fill)(const FillRow& row);
   // The render cache's filter (rendercache.h) over the same rows as interpolation: the 3x3 of
   // the sampled flags and colours (rows 1-3), the own sample words (age); `usable` and `reach`
-  // are not read. Outputs as interpolation's (total 0: the caller's fallback).
+  // are not read. Outputs as interpolation's (found 0: the caller's fallback).
   void (*rendercache)(const InterpolateRow& row);
 };
 

@@ -143,7 +143,6 @@ struct RowJob {
   int own_first, own_last;
   ClassCounts* counts;            // of owned rows
   float* priority_scratch;        // priority of halo rows (discarded), width floats
-  float* total_scratch;           // width floats (the interpolation kernel's weights)
   const float* zero_samples;      // a decoded row of zeros (rows outside the image)
   const uint8_t* outside_types;   // a padded types row outside the image
   int stage_first = 0;            // first row of this stage in the current run (reach reuse)
@@ -253,25 +252,22 @@ void interpolate_stage(RowJob& j, int y) {
   }
   row.width = j.width, row.types = j.types.row(y), row.reach = reach;
   row.color = &j.in.color[size_t(y) * size_t(j.width)];
-  row.rgb = colors, row.total = j.total_scratch, row.priority = priority;
-  if (j.settings.filter == Filter::rendercache) {
-    j.kernels->rendercache(row);
-    for (int x = 0; x < j.width; ++x) {  // no sample in the 3x3: the oracle's 7x7 prefilter
-      found[x] = 1;
-      if (j.total_scratch[x] == 0) {
-        window_average(rows, x, y, 3, colors + 3 * x);
-        priority[x] = kMaxPriority;
-      }
-    }
-    return;
-  }
-  j.kernels->interpolate(row);
-  for (int x = 0; x < j.width; ++x) {  // pixels that reached nothing: the oracle's fallback
-    found[x] = j.total_scratch[x] > 0;
-    if (!found[x]) {
+  row.rgb = colors, row.found = found, row.priority = priority;
+  const bool rendercache = j.settings.filter == Filter::rendercache;
+  if (rendercache) j.kernels->rendercache(row);
+  else j.kernels->interpolate(row);
+  // Pixels that reached nothing (found 0; few): the oracle's fallback, or the render cache's
+  // 7x7 prefilter where its 3x3 holds no sample.
+  for (auto* p = static_cast<uint8_t*>(std::memchr(found, 0, size_t(j.width))); p;
+       p = static_cast<uint8_t*>(std::memchr(p + 1, 0, size_t(found + j.width - p - 1)))) {
+    const int x = int(p - found);
+    if (rendercache) {
+      window_average(rows, x, y, 3, colors + 3 * x);
+      *p = 1;
+    } else {
       fallback_color(rows, x, y, colors + 3 * x);
-      priority[x] = kMaxPriority;
     }
+    priority[x] = kMaxPriority;
   }
 }
 
@@ -339,13 +335,13 @@ void run_stage_row(Stage s, RowJob& j, int y) { kStageRows[size_t(s)](j, y); }
 // Rings of one thread (reused across its bands and calls).
 struct ThreadScratch {
   PlaneStore rings;
-  std::vector<float> priority, total;
+  std::vector<float> priority;
   std::vector<uint8_t> relations;
   void resize(int w) {
     if (relations.size() != kRelationRows * relations_stride(w)) relations.assign(kRelationRows * relations_stride(w), 0);
     static_assert(ring_rows(Plane::samples) <= kClassRingRows, "decoded rows live in rings of the classified rows' size");
     rings.resize(w, kClassRingRows, ring_rows(Plane::reach), ring_rows(Plane::interp), ring_rows(Plane::filled));
-    priority.resize(size_t(w)), total.resize(size_t(w));
+    priority.resize(size_t(w));
   }
 };
 
@@ -398,7 +394,7 @@ namespace {
 // A RowJob over whole-image planes (rows = height): the oracle's and the staged schedule's.
 RowJob whole_image_job(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
                        const simd::RowKernels* kernels, Reconstruction& r, PlaneStore& whole, ClassCounts* counts,
-                       float* priority_scratch, float* total_scratch) {
+                       float* priority_scratch) {
   const int w = epi.width, h = epi.height;
   const size_t n = size_t(w);
   return RowJob{epi, masks, s, kernels, r, w, h,
@@ -407,7 +403,7 @@ RowJob whole_image_job(const EpiImage& epi, const BoundaryMasks& masks, const Re
                 {whole.interp.data() + 3 * simd::kPad, 3 * samples_plane(w)}, {whole.filled.data(), 3 * n},
                 {r.image.pixels.data(), 3 * n},
                 {whole.samples.data(), samples_stride(w)}, {whole.padded_types.data(), samples_plane(w)}, 0, h - 1, counts,
-                priority_scratch, total_scratch, whole.zero_samples.data(), whole.outside_types.data()};
+                priority_scratch, whole.zero_samples.data(), whole.outside_types.data()};
 }
 
 }  // namespace
@@ -418,7 +414,7 @@ void Reconstructor::oracle(const EpiImage& epi, const BoundaryMasks& masks, cons
   const int w = epi.width, h = epi.height;
   if (w == 0 || h == 0) return;  // nothing to compute (and no rows to point into)
   scratch_->whole.resize(w, h, h, h, h);
-  RowJob job = whole_image_job(epi, masks, s, nullptr, r, scratch_->whole, &r.counts, nullptr, nullptr);
+  RowJob job = whole_image_job(epi, masks, s, nullptr, r, scratch_->whole, &r.counts, nullptr);
   for (const StageInfo& stage : kStages)
     for (int y = 0; y < h; ++y) run_stage_row(stage.stage, job, y);
 }
@@ -438,8 +434,7 @@ void Reconstructor::staged(const EpiImage& epi, const BoundaryMasks& masks, cons
       tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& range) {
         ThreadScratch& local = scratch_->threads.local();
         local.resize(w);
-        RowJob job = whole_image_job(epi, masks, s, kernels_, r, scratch_->whole, &counts.local(), nullptr,
-                                     local.total.data());
+        RowJob job = whole_image_job(epi, masks, s, kernels_, r, scratch_->whole, &counts.local(), nullptr);
         job.stage_first = range.begin(), job.reuse_reach = schedule.reach_symmetry;
         job.relations = local.relations.data();
         for (int y = range.begin(); y != range.end(); ++y) run_stage_row(stage.stage, job, y);
@@ -488,7 +483,7 @@ void Reconstructor::tiled(const EpiImage& epi, const BoundaryMasks& masks, const
                {ring.interp.data() + 3 * simd::kPad, 3 * samples_plane(w), ring_rows(Plane::interp) - 1}, {ring.filled.data(), 3 * n, ring_rows(Plane::filled) - 1},
                {r.image.pixels.data(), 3 * n}, {ring.samples.data(), samples_stride(w), kClassRingRows - 1},
                {ring.padded_types.data(), samples_plane(w), kClassRingRows - 1},
-               y0, y1 - 1, &band_counts[size_t(b)], local.priority.data(), local.total.data(),
+               y0, y1 - 1, &band_counts[size_t(b)], local.priority.data(),
                ring.zero_samples.data(), ring.outside_types.data()};
     job.reuse_reach = schedule.reach_symmetry;
     job.relations = local.relations.data();
