@@ -12,8 +12,6 @@
 #endif
 
 #include <cstring>
-#include <type_traits>
-#include <utility>
 
 #include <hwy/highway.h>
 
@@ -56,30 +54,30 @@ HWY_INLINE void StoreMean(DF df, const float* own, const uint32_t* color, hn::Ve
   hn::StoreU(hn::IfThenElse(own_sample, age, by_weight), df, priority_out);
 }
 
-// Calls f(k) for k = 0 .. K - 1 in order, k a compile-time constant (the taps unrolled).
-template <class F, size_t... K>
-HWY_INLINE void ForEachTap(F f, std::index_sequence<K...>) {
-  (f(std::integral_constant<int, int(K)>()), ...);
-}
-
 // The 25 taps in the oracle's order (dy, then dx), tap k = (dy + 2) * 5 + dx + 2 taken where
-// bit k of `take` is set; flags (1 or 0) from `usable`, or for kComplex lanes from `sampled`.
+// bit k of `take` is set; flags (1 or 0) from `usable`, for kComplex lanes from `sampled`.
 template <bool kComplex, class DF>
 HWY_INLINE void SumTaps(DF df, const InterpolateRow& row, int x, hn::Vec<hn::RebindToUnsigned<DF>> take,
                         hn::Mask<DF> complex, hn::Vec<DF>& sr, hn::Vec<DF>& sg, hn::Vec<DF>& sb, hn::Vec<DF>& total) {
   const hn::RebindToUnsigned<DF> du;
-  ForEachTap([&](auto tap) {
-    constexpr int k = decltype(tap)::value, dy = k / 5 - 2, dx = k % 5 - 2;
-    const size_t i = size_t(kPad + x + dx);
-    const auto bit = hn::RebindMask(df, hn::TestBit(take, hn::Set(du, 1u << k)));
-    auto flag = hn::LoadU(df, row.usable[dy + 2] + i);
-    if (kComplex) flag = hn::IfThenElse(complex, hn::LoadU(df, row.sampled[dy + 2] + i), flag);
-    const auto w = hn::IfThenElseZero(bit, hn::Mul(hn::Set(df, InterpolationWeight(dx, dy)), flag));
-    sr = hn::Add(sr, hn::Mul(w, hn::LoadU(df, row.red[dy + 2] + i)));
-    sg = hn::Add(sg, hn::Mul(w, hn::LoadU(df, row.green[dy + 2] + i)));
-    sb = hn::Add(sb, hn::Mul(w, hn::LoadU(df, row.blue[dy + 2] + i)));
-    total = hn::Add(total, w);
-  }, std::make_index_sequence<25>());
+  for (int dy = -2; dy <= 2; ++dy) {
+    const int k0 = (dy + 2) * 5;
+    const float* red = row.red[dy + 2] + kPad + x;
+    const float* green = row.green[dy + 2] + kPad + x;
+    const float* blue = row.blue[dy + 2] + kPad + x;
+    const float* usable = row.usable[dy + 2] + kPad + x;
+    const float* sampled = row.sampled[dy + 2] + kPad + x;
+    for (int dx = -2; dx <= 2; ++dx) {
+      const auto bit = hn::RebindMask(df, hn::TestBit(take, hn::Set(du, 1u << (k0 + dx + 2))));
+      const auto flag = kComplex ? hn::IfThenElse(complex, hn::LoadU(df, sampled + dx), hn::LoadU(df, usable + dx))
+                                 : hn::LoadU(df, usable + dx);
+      const auto w = hn::IfThenElseZero(bit, hn::Mul(hn::Set(df, InterpolationWeight(dx, dy)), flag));
+      sr = hn::Add(sr, hn::Mul(w, hn::LoadU(df, red + dx)));
+      sg = hn::Add(sg, hn::Mul(w, hn::LoadU(df, green + dx)));
+      sb = hn::Add(sb, hn::Mul(w, hn::LoadU(df, blue + dx)));
+      total = hn::Add(total, w);
+    }
+  }
 }
 
 // Lanes x .. x + N - 1 of the row; `types`, `reach`, `color` and the outputs start at x.
