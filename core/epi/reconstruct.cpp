@@ -147,6 +147,7 @@ struct RowJob {
   const uint8_t* outside_types;   // a padded types row outside the image
   int stage_first = 0;            // first row of this stage in the current run (reach reuse)
   bool reuse_reach = false;       // reach may take the rows above by symmetry (not in the oracle)
+  bool reuse_relations = true;    // relation rows kept from the rows before (update_relations)
   // The neighbour relations of the rows the reachability kernel reads (simd::RelationRow), a
   // ring of kRelationRows rows of four planes; rows below relations_next are computed (this run).
   uint8_t* relations = nullptr;
@@ -199,7 +200,7 @@ uint8_t* relation_row(const RowJob& j, int r) {
 // Computes the relation rows y - 2 .. y + 2 not yet computed in this run: one row per call
 // while the rows run consecutively (each row's relations serve five rows of reachability).
 void update_relations(RowJob& j, int y) {
-  const bool consecutive = j.relations_next == y + 2;
+  const bool consecutive = j.reuse_relations && j.relations_next == y + 2;
   for (int r = consecutive ? y + 2 : y - 2; r <= y + 2; ++r) {
     // Row y - 2's relations towards the row above are never read: computed as "outside".
     const bool above_read = r > y - 2 && j.inside(r - 1);
@@ -436,6 +437,7 @@ void Reconstructor::staged(const EpiImage& epi, const BoundaryMasks& masks, cons
         local.resize(w);
         RowJob job = whole_image_job(epi, masks, s, kernels_, r, scratch_->whole, &counts.local(), nullptr);
         job.stage_first = range.begin(), job.reuse_reach = schedule.reach_symmetry;
+        job.reuse_relations = schedule.reuse_relations;
         job.relations = local.relations.data();
         for (int y = range.begin(); y != range.end(); ++y) run_stage_row(stage.stage, job, y);
       });
@@ -485,7 +487,7 @@ void Reconstructor::tiled(const EpiImage& epi, const BoundaryMasks& masks, const
                {ring.padded_types.data(), samples_plane(w), kClassRingRows - 1},
                y0, y1 - 1, &band_counts[size_t(b)], local.priority.data(),
                ring.zero_samples.data(), ring.outside_types.data()};
-    job.reuse_reach = schedule.reach_symmetry;
+    job.reuse_reach = schedule.reach_symmetry, job.reuse_relations = schedule.reuse_relations;
     job.relations = local.relations.data();
     job.stage_first = first[size_t(Stage::reachability)];
     const int classified_first = first[size_t(Stage::classify)];

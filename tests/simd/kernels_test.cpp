@@ -53,6 +53,10 @@ class Kernels : public testing::TestWithParam<int64_t> {
     expect_same("staged");
     fast.tiled(b.epi, b.masks, s, {7, 1, false}, r);
     expect_same("tiled, reachability without symmetry");
+    fast.tiled(b.epi, b.masks, s, {6, 1, false, false}, r);
+    expect_same("tiled, reachability without symmetry and relation rows recomputed");
+    fast.staged(b.epi, b.masks, s, r, times, {8, 1, true, false});
+    expect_same("staged, relation rows recomputed");
     ASSERT_EQ(input.edge, b.epi.edge);  // the input is never written
     ASSERT_EQ(input.color, b.epi.color);
   }
