@@ -10,11 +10,15 @@ measured in one run sit side by side):
   --frame LABEL@CORES=FILE   render_bench JSON of BM_Frame run under `taskset -c 0-(CORES-1)`:
                              TBB sizes its arena from the affinity mask, so CORES is the thread count.
 
-  /usr/bin/python3 bench/scaling_tables.py --reconstruct new=epi.json \\
-      --frame new@2=frame_c2.json --frame new@16=frame_c16.json --chart docs/images/scaling.png
+  --dir DIR                  everything bench/scaling_run.sh wrote there (LABEL_reconstruct.json,
+                             LABEL_frame_cCORES.json).
+
+  /usr/bin/python3 bench/scaling_tables.py --dir scaling --chart docs/images/scaling.png
 """
 import argparse
+import glob
 import json
+import os
 import re
 import sys
 from collections import defaultdict
@@ -82,8 +86,16 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--reconstruct", action="append", default=[])
     ap.add_argument("--frame", action="append", default=[])
+    ap.add_argument("--dir")
     ap.add_argument("--chart")
     args = ap.parse_args()
+    if args.dir:
+        for path in sorted(glob.glob(os.path.join(args.dir, "*.json"))):
+            m = re.match(r"(.+)_(reconstruct|frame_c(\d+))\.json$", os.path.basename(path))
+            if m and m.group(2) == "reconstruct":
+                args.reconstruct.append(f"{m.group(1)}={path}")
+            elif m:
+                args.frame.append(f"{m.group(1)}@{m.group(3)}={path}")
     recon, frames = {}, {}
     for s in args.reconstruct:
         recon.update(reconstruct_rows(*spec(s, False)))
