@@ -8,6 +8,7 @@
 // and the AoS/SoA layout decision. bench/perf_tables.py turns the JSON into docs/performance.md.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +18,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -378,14 +380,19 @@ void FilterArgs(benchmark::internal::Benchmark* b) {
         for (int threads : g_threads) b->Args({w, h, k, threads, edges});
   b->Unit(benchmark::kMillisecond)->UseManualTime();
 }
-// The oracle schedule, and the tiled stream with the best and the scalar target.
+// The oracle schedule, and the tiled stream with the best and the scalar target, on 1 and 2
+// threads (--threads); the best target also on 4, 8, 16... up to the machine's cores
+// (docs/performance.md, "Scaling past two cores").
 void ReconstructArgs(benchmark::internal::Benchmark* b) {
   const int scalar = int(simd::compiled_targets().size());
+  const int cores = int(std::thread::hardware_concurrency());
   for (auto [w, h] : kFilterSizes)
     for (int edges : {0, 1}) {
       b->Args({w, h, 0, 1, edges});
       for (int k : {1, scalar})
         for (int threads : g_threads) b->Args({w, h, k, threads, edges});
+      for (int threads = 4; threads <= cores; threads *= 2)
+        if (std::find(g_threads.begin(), g_threads.end(), threads) == g_threads.end()) b->Args({w, h, 1, threads, edges});
     }
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
