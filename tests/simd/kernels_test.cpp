@@ -83,9 +83,10 @@ TEST_P(Kernels, RandomPatternsEqualTheOracle) {
   }
 }
 
+// Widths around every vector width: 4-16 float lanes, 16-64 byte lanes (reachability).
 TEST_P(Kernels, ExtremeSizes) {
   for (auto [w, h] : {std::pair{0, 0}, {0, 5}, {5, 0}, {1, 1}, {1, 17}, {17, 1}, {2, 3}, {15, 4}, {16, 4}, {17, 4},
-                      {31, 3}, {33, 3}, {64, 2}, {65, 2}})
+                      {31, 3}, {33, 3}, {63, 3}, {64, 2}, {65, 2}, {127, 3}, {128, 2}, {129, 3}})
     for (double d : {0.0, 0.5, 1.0}) {
       const test::Built b = test::build(test::random_pattern(std::max(w, 1), std::max(h, 1), 6, uint64_t(w * 100 + h)), d, 3);
       if (w == 0 || h == 0) {
