@@ -27,13 +27,14 @@ HWY_INLINE void DecodeLanes(DF df, const DecodeRow& row, const uint16_t* edge_in
   const hn::Rebind<uint16_t, DF> d16;
   const auto byte = hn::Set(du, 255u);
   const auto color = hn::LoadU(du, color_in);
-  hn::StoreU(hn::GatherIndex(df, row.lut, hn::BitCast(di, hn::And(color, byte))), df, red);
+  const auto r = hn::GatherIndex(df, row.lut, hn::BitCast(di, hn::And(color, byte)));
   hn::StoreU(hn::GatherIndex(df, row.lut, hn::BitCast(di, hn::And(hn::ShiftRight<8>(color), byte))), df, green);
   hn::StoreU(hn::GatherIndex(df, row.lut, hn::BitCast(di, hn::And(hn::ShiftRight<16>(color), byte))), df, blue);
   const auto edge = hn::PromoteTo(du, hn::LoadU(d16, edge_in));
   const auto one = hn::Set(df, 1.0f);
-  hn::StoreU(hn::IfThenElseZero(hn::RebindMask(df, hn::Ne(hn::And(edge, hn::Set(du, 0x8000u)), hn::Zero(du))), one),
-             df, usable);
+  const auto use = hn::RebindMask(df, hn::Ne(hn::And(edge, hn::Set(du, 0x8000u)), hn::Zero(du)));
+  hn::StoreU(hn::IfThenElseZero(use, one), df, usable);
+  hn::StoreU(hn::Or(r, hn::IfThenZeroElse(use, hn::Set(df, -0.0f))), df, red);  // the sign: not usable
   hn::StoreU(hn::IfThenElseZero(hn::RebindMask(df, hn::Ne(hn::And(edge, hn::Set(du, 0x4000u)), hn::Zero(du))), one),
              df, sampled);
 }

@@ -60,6 +60,7 @@ template <bool kComplex, class DF>
 HWY_INLINE void SumTaps(DF df, const InterpolateRow& row, int x, hn::Vec<hn::RebindToUnsigned<DF>> take,
                         hn::Mask<DF> complex, hn::Vec<DF>& sr, hn::Vec<DF>& sg, hn::Vec<DF>& sb, hn::Vec<DF>& total) {
   const hn::RebindToUnsigned<DF> du;
+  const hn::RebindToSigned<DF> di;
   for (int dy = -2; dy <= 2; ++dy) {
     const int k0 = (dy + 2) * 5;
     const float* red = row.red[dy + 2] + kPad + x;
@@ -69,10 +70,19 @@ HWY_INLINE void SumTaps(DF df, const InterpolateRow& row, int x, hn::Vec<hn::Reb
     const float* sampled = row.sampled[dy + 2] + kPad + x;
     for (int dx = -2; dx <= 2; ++dx) {
       const auto bit = hn::RebindMask(df, hn::TestBit(take, hn::Set(du, 1u << (k0 + dx + 2))));
-      const auto flag = kComplex ? hn::IfThenElse(complex, hn::LoadU(df, sampled + dx), hn::LoadU(df, usable + dx))
-                                 : hn::LoadU(df, usable + dx);
+      if (!kComplex) {  // usable: red's sign clear; else w = +0 and +0 x -red adds -0: unchanged
+        const auto r = hn::LoadU(df, red + dx);
+        const auto unusable = hn::RebindMask(df, hn::Lt(hn::BitCast(di, r), hn::Zero(di)));
+        const auto w = hn::IfThenElseZero(hn::AndNot(unusable, bit), hn::Set(df, InterpolationWeight(dx, dy)));
+        sr = hn::Add(sr, hn::Mul(w, r));
+        sg = hn::Add(sg, hn::Mul(w, hn::LoadU(df, green + dx)));
+        sb = hn::Add(sb, hn::Mul(w, hn::LoadU(df, blue + dx)));
+        total = hn::Add(total, w);
+        continue;
+      }
+      const auto flag = hn::IfThenElse(complex, hn::LoadU(df, sampled + dx), hn::LoadU(df, usable + dx));
       const auto w = hn::IfThenElseZero(bit, hn::Mul(hn::Set(df, InterpolationWeight(dx, dy)), flag));
-      sr = hn::Add(sr, hn::Mul(w, hn::LoadU(df, red + dx)));
+      sr = hn::Add(sr, hn::Mul(w, hn::Abs(hn::LoadU(df, red + dx))));
       sg = hn::Add(sg, hn::Mul(w, hn::LoadU(df, green + dx)));
       sb = hn::Add(sb, hn::Mul(w, hn::LoadU(df, blue + dx)));
       total = hn::Add(total, w);
@@ -115,7 +125,7 @@ HWY_INLINE void RenderCacheLanes(DF df, const InterpolateRow& row, int x, const 
     for (int dx = -1; dx <= 1; ++dx) {
       const size_t i = size_t(kPad + x + dx);
       const auto w = hn::Mul(hn::Set(df, kWeights[(dy + 1) * 3 + dx + 1]), hn::LoadU(df, row.sampled[k] + i));
-      sr = hn::Add(sr, hn::Mul(w, hn::LoadU(df, row.red[k] + i)));
+      sr = hn::Add(sr, hn::Mul(w, hn::Abs(hn::LoadU(df, row.red[k] + i))));
       sg = hn::Add(sg, hn::Mul(w, hn::LoadU(df, row.green[k] + i)));
       sb = hn::Add(sb, hn::Mul(w, hn::LoadU(df, row.blue[k] + i)));
       total = hn::Add(total, w);

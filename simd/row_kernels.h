@@ -18,7 +18,9 @@ namespace epi::simd {
 constexpr int kPad = 2;
 struct InterpolateRow {
   int width;
-  const float* red[5];      // linear colour, decoded once per row
+  // Linear colour, decoded once per row; red is negated where the pixel holds no usable
+  // sample (-0 without a colour, padding and rows outside too): its sign is the usable flag.
+  const float* red[5];
   const float* green[5];
   const float* blue[5];
   const float* usable[5];   // 1: the pixel holds a usable sample, else 0
@@ -114,7 +116,7 @@ struct DecodeRow {
   const uint16_t* edge;
   const uint32_t* color;
   const float* lut;
-  float *red, *green, *blue, *usable, *sampled;
+  float *red, *green, *blue, *usable, *sampled;  // red negated where not usable (InterpolateRow)
 };
 
 // One row of the fill step (fill.h) over padded rows of interpolated colours (3 floats per

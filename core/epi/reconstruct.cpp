@@ -62,8 +62,10 @@ struct RowPlane {
   T* row(int y) const { return data + size_t(y & mask) * stride; }
 };
 
-// A decoded row (Plane::samples): five padded planes (simd::InterpolateRow) of red, green,
-// blue, usable and sampled, each with kPad zeros on the left and a vector's worth on the right.
+// A decoded row (Plane::samples): five padded planes (simd::InterpolateRow) of green, blue,
+// usable, sampled and red (last: its padding is -0, and the fill stage reads the start of the
+// zero row as zero colours and found flags), each with kPad pixels on the left and a
+// vector's worth on the right.
 size_t samples_plane(int w) { return size_t(w) + 2 * simd::kPad + 64; }
 size_t samples_stride(int w) { return 5 * samples_plane(w); }
 
@@ -119,6 +121,10 @@ struct PlaneStore {
     found.assign(samples_plane(w) * size_t(interp_rows), 0), interp.assign(3 * samples_plane(w) * size_t(interp_rows), 0.0f);
     filled.assign(3 * n * size_t(filled_rows), 0.0f);
     samples.assign(samples_stride(w) * size_t(class_rows), 0.0f), zero_samples.assign(samples_stride(w), 0.0f);
+    // The red plane (the last; simd::InterpolateRow) reads "no usable sample" as -0.
+    for (std::vector<float>* v : {&samples, &zero_samples})
+      for (size_t row = 0; row < v->size(); row += samples_stride(w))
+        std::fill(v->begin() + ptrdiff_t(row + 4 * samples_plane(w)), v->begin() + ptrdiff_t(row + samples_stride(w)), -0.0f);
     // Pads and rows outside the image read as complex (blocked); decoding writes only the pixels.
     padded_types.assign(samples_plane(w) * size_t(class_rows), uint8_t(kTypeComplex));
     outside_types.assign(samples_plane(w), uint8_t(kTypeComplex));
@@ -184,9 +190,9 @@ bool vector_kernels(const RowJob& j) { return j.kernels && j.settings.filter == 
 void decode_stage(RowJob& j, int y) {
   if (!j.kernels) return;  // both filters' vector kernels read the decoded rows
   const size_t plane = samples_plane(j.width);
-  float* red = j.samples.row(y) + simd::kPad;
-  j.kernels->decode({j.width, j.edge.row(y), &j.in.color[size_t(y) * size_t(j.width)], srgb8_to_linear().data(), red,
-                     red + plane, red + 2 * plane, red + 3 * plane, red + 4 * plane});
+  float* base = j.samples.row(y) + simd::kPad;  // planes green, blue, usable, sampled, red
+  j.kernels->decode({j.width, j.edge.row(y), &j.in.color[size_t(y) * size_t(j.width)], srgb8_to_linear().data(),
+                     base + 4 * plane, base, base + plane, base + 2 * plane, base + 3 * plane});
   std::memcpy(j.padded_types.row(y) + simd::kPad, j.types.row(y), size_t(j.width));
 }
 
@@ -248,8 +254,8 @@ void interpolate_stage(RowJob& j, int y) {
   const size_t plane = samples_plane(j.width);
   for (int k = 0; k < 5; ++k) {
     const float* base = j.inside(y - 2 + k) ? j.samples.row(y - 2 + k) : j.zero_samples;
-    row.red[k] = base, row.green[k] = base + plane, row.blue[k] = base + 2 * plane;
-    row.usable[k] = base + 3 * plane, row.sampled[k] = base + 4 * plane;
+    row.green[k] = base, row.blue[k] = base + plane, row.usable[k] = base + 2 * plane;
+    row.sampled[k] = base + 3 * plane, row.red[k] = base + 4 * plane;
   }
   row.width = j.width, row.types = j.types.row(y), row.reach = reach;
   row.color = &j.in.color[size_t(y) * size_t(j.width)];
