@@ -24,7 +24,7 @@ constexpr float kMinLobeWidth = 0.02f;  // radians: narrower lobes age as if thi
 // The fast path's fixed work units: blocks of points, square tiles and bands of rows of the image.
 constexpr size_t kPointBlock = 16384;
 constexpr int kTileSize = 64, kBandRows = 8;
-constexpr uint32_t kNoPixel = ~uint32_t(0);  // a point not drawn this frame
+constexpr uint32_t kNoTile = ~uint32_t(0);  // a point not drawn this frame
 constexpr uint16_t kShowsNothing = 0x8000;     // age bin flag: shows_nothing (fill_epi leaves the pixel empty)
 
 uint32_t pack_srgb(const glm::vec3& c) {
@@ -89,7 +89,6 @@ PointCache::PointCache(int width, int height, const PointCacheSettings& settings
   image_.point.assign(pixels, -1);
   image_.depth.assign(pixels, std::numeric_limits<float>::infinity());
   image_.region.assign(pixels, 0);
-  zbuffer_.assign(pixels, kEmptyKey);
   winners_.assign(pixels, -1);
 }
 
@@ -112,8 +111,8 @@ uint8_t PointCache::view_staleness(const CachePoint& p, const glm::vec3& to_eye)
   if (p.lobe_width <= 0.0f || p.object == kNone || view_share(p) <= 0.0f) return 0;
   const float length = glm::length(to_eye);
   if (!(length > 0.0f)) return 0;
-  const float turned = std::acos(std::clamp(glm::dot(to_eye / length, unpack_unit(p.view)), -1.0f, 1.0f));
-  return uint8_t(std::lround(std::min(16.0f * turned / std::max(p.lobe_width, kMinLobeWidth), 255.0f)));
+  return staleness_steps(std::clamp(glm::dot(to_eye / length, unpack_unit(p.view)), -1.0f, 1.0f),
+                         std::max(p.lobe_width, kMinLobeWidth));
 }
 
 ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull) {
@@ -129,13 +128,12 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   for (size_t o = 0; o < object_to_world.size(); ++o) eye_local_[o] = glm::vec3(glm::inverse(object_to_world[o]) * glm::vec4(frame.eye(), 1.0f));
   const int tiles_x = (w + kTileSize - 1) / kTileSize, tiles_y = (h + kTileSize - 1) / kTileSize;
   const size_t tiles = size_t(tiles_x) * size_t(tiles_y);
-  auto tile_of = [&](uint32_t pixel) { return size_t(pixel / uint32_t(w) / kTileSize) * size_t(tiles_x) + pixel % uint32_t(w) / kTileSize; };
 
-  // 1. Aging and projection (blocks of points in parallel): each point's z-buffer key and pixel
-  // (kNoPixel: not drawn), counted per tile.
+  // 1. Aging and projection (blocks of points in parallel): each point's record (z-buffer key,
+  // EPI colour word, age bin, pixel within its tile) and tile (kNoTile: not drawn), counted per tile.
   const size_t n = points_.size();
   point_blocks_.resize((n + kPointBlock - 1) / kPointBlock);
-  key_.resize(n), pixel_.resize(n), word_.resize(n), age_bin_.resize(n);
+  projected_.resize(n), point_tile_.resize(n);
   tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
     PointBlock& block = point_blocks_[b];
     std::array<uint32_t, kAgeBins> ages{};
@@ -144,7 +142,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     block.tile_count.assign(tiles, 0);
     for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
       CachePoint& p = points_[i];
-      pixel_[i] = kNoPixel;
+      point_tile_[i] = kNoTile;
       if (!p.valid) {
         block.free.push_back(uint32_t(i));
         continue;
@@ -175,13 +173,13 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
       const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
       const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
-      const uint32_t pixel = uint32_t(py) * uint32_t(w) + uint32_t(px);
-      p.image_id = int32_t(pixel);
-      key_[i] = zkey(proj.depth, rx + 4 * ry, uint32_t(i));
-      pixel_[i] = pixel;
-      word_[i] = epi_color_word(p);
-      age_bin_[i] = uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p) ? kShowsNothing : 0));
-      ++block.tile_count[tile_of(pixel)];
+      p.image_id = int32_t(uint32_t(py) * uint32_t(w) + uint32_t(px));
+      const uint32_t tile = uint32_t(py / kTileSize) * uint32_t(tiles_x) + uint32_t(px / kTileSize);
+      projected_[i] = {zkey(proj.depth, rx + 4 * ry, uint32_t(i)), epi_color_word(p),
+                       uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p) ? kShowsNothing : 0)),
+                       uint16_t(py % kTileSize * kTileSize + px % kTileSize)};
+      point_tile_[i] = tile;
+      ++block.tile_count[tile];
       ++projected;
     }
     block.projected = projected, block.expired = expired, block.back_facing = back_facing_points;
@@ -195,7 +193,8 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   }
 
   // 2. Binning by tile (a counting sort: tile-major, then block order): tile_begin_[t] is where
-  // tile t's keys start in binned_key_; each block's tile_count becomes its write cursor.
+  // tile t's records start in binned_; each block's tile_count becomes its write cursor. One
+  // 16-byte record per point: one write stream per tile.
   tile_begin_.assign(tiles + 1, 0);
   for (size_t t = 0; t < tiles; ++t) {
     uint32_t at = tile_begin_[t];
@@ -206,30 +205,30 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     }
     tile_begin_[t + 1] = at;
   }
-  binned_key_.resize(projected), binned_pixel_.resize(projected), binned_word_.resize(projected), binned_age_bin_.resize(projected);
+  binned_.resize(projected);
   tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
-    PointBlock& block = point_blocks_[b];
-    for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
-      if (pixel_[i] == kNoPixel) continue;
-      const uint32_t at = block.tile_count[tile_of(pixel_[i])]++;
-      binned_key_[at] = key_[i], binned_pixel_[at] = pixel_[i], binned_word_[at] = word_[i], binned_age_bin_[at] = age_bin_[i];
-    }
+    uint32_t* cursor = point_blocks_[b].tile_count.data();
+    for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i)
+      if (const uint32_t tile = point_tile_[i]; tile != kNoTile) binned_[cursor[tile]++] = projected_[i];
   });
 
-  // 3. Per tile (in parallel; a tile owns its pixels): the z-buffer's minimum keys, unpacked into
-  // the image; without a depth cull, the drawn points' ages are counted in the same pass.
+  // 3. Per tile (in parallel; a tile owns its pixels): the minimum keys in a z-buffer of the
+  // tile's own (on the stack, in L1/L2), unpacked into the image with the winners' colour words;
+  // without a depth cull, the drawn points' ages are counted in the same pass.
   tile_blocks_.resize(tiles);
-  pixel_word_.resize(zbuffer_.size()), pixel_age_bin_.resize(zbuffer_.size());
+  pixel_word_.resize(image_.point.size()), pixel_age_bin_.resize(image_.point.size());
   tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
     const int x0 = int(t % size_t(tiles_x)) * kTileSize, y0 = int(t / size_t(tiles_x)) * kTileSize;
     const int x1 = std::min(w, x0 + kTileSize), y1 = std::min(h, y0 + kTileSize);
-    for (int y = y0; y < y1; ++y) std::fill(&zbuffer_[image_.index(x0, y)], &zbuffer_[image_.index(x0, y)] + (x1 - x0), kEmptyKey);
+    std::array<uint64_t, kTileSize * kTileSize> zbuffer;
+    std::array<uint32_t, kTileSize * kTileSize> winner;
+    zbuffer.fill(kEmptyKey);
     for (uint32_t k = tile_begin_[t]; k != tile_begin_[t + 1]; ++k)
-      if (const uint32_t pixel = binned_pixel_[k]; binned_key_[k] < zbuffer_[pixel])
-        zbuffer_[pixel] = binned_key_[k], pixel_word_[pixel] = binned_word_[k], pixel_age_bin_[pixel] = binned_age_bin_[k];
+      if (const ProjectedPoint& r = binned_[k]; r.key < zbuffer[r.tile_pixel]) zbuffer[r.tile_pixel] = r.key, winner[r.tile_pixel] = k;
     for (int y = y0; y < y1; ++y)
-      for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i) {
-        const uint64_t key = zbuffer_[i];
+      for (int x = x0; x < x1; ++x) {
+        const size_t i = image_.index(x, y), local = size_t(y - y0) * kTileSize + size_t(x - x0);
+        const uint64_t key = zbuffer[local];
         if (key == kEmptyKey) {
           winners_[i] = image_.point[i] = -1;
           image_.depth[i] = std::numeric_limits<float>::infinity();
@@ -238,6 +237,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         winners_[i] = image_.point[i] = int32_t(uint32_t(key) & kIndexMask);
         image_.depth[i] = std::bit_cast<float>(uint32_t(key >> 32));
         image_.region[i] = uint8_t((uint32_t(key) >> 28) & 15);
+        pixel_word_[i] = binned_[winner[local]].word, pixel_age_bin_[i] = binned_[winner[local]].age_bin;
       }
     if (!depth_cull) count_drawn(t, x0, y0, x1, y1);
   });

@@ -211,19 +211,22 @@ class PointCache {
   std::vector<uint32_t> age_histogram_;  // of the last projection less the points evicted since (not drawn last)
   size_t hidden_removed_ = 0, refined_ = 0;
   PointImage image_;
-  std::vector<uint64_t> zbuffer_;  // (depth bits << 32) | point index, min wins
+  std::vector<uint64_t> zbuffer_;  // reference path: (depth bits << 32) | point index, min wins
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull
   std::vector<PointBlock> point_blocks_;
   std::vector<TileBlock> tile_blocks_;
-  // Per point, this frame: z-buffer key, pixel (kNoPixel: none), EPI colour word, age histogram bin.
-  std::vector<uint64_t> key_;
-  std::vector<uint32_t> pixel_, word_;
-  std::vector<uint16_t> age_bin_;
-  // The same, binned by tile: tile t's are binned_*[tile_begin_[t], tile_begin_[t + 1]).
+  // Per point, this frame: its z-buffer key, EPI colour word, age bin and pixel within its tile
+  // (16 bytes, one record: the binning scatters one stream per tile), and its tile (none: ~0).
+  struct ProjectedPoint {
+    uint64_t key;
+    uint32_t word;
+    uint16_t age_bin, tile_pixel;
+  };
+  std::vector<ProjectedPoint> projected_;
+  std::vector<uint32_t> point_tile_;
+  // The same, binned by tile: tile t's are binned_[tile_begin_[t], tile_begin_[t + 1]).
   std::vector<uint32_t> tile_begin_;
-  std::vector<uint64_t> binned_key_;
-  std::vector<uint32_t> binned_pixel_, binned_word_;
-  std::vector<uint16_t> binned_age_bin_;
+  std::vector<ProjectedPoint> binned_;
   // The EPI colour word and age bin of each pixel's z-buffer winner, made while the projection
   // streams the cloud (fill_epi then reads no point); the words are current until an insert.
   std::vector<uint32_t> pixel_word_;
