@@ -7,6 +7,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -216,6 +217,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   // tile's own (on the stack, in L1/L2), unpacked into the image with the winners' colour words;
   // without a depth cull, the drawn points' ages are counted in the same pass.
   tile_blocks_.resize(tiles);
+  static constexpr ProjectedPoint kNoRecord{kEmptyKey, 0, 0, 0};  // an empty pixel's winner when nothing projected
   pixel_word_.resize(image_.point.size()), pixel_age_bin_.resize(image_.point.size());
   tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
     const int x0 = int(t % size_t(tiles_x)) * kTileSize, y0 = int(t / size_t(tiles_x)) * kTileSize;
@@ -223,21 +225,24 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     std::array<uint64_t, kTileSize * kTileSize> zbuffer;
     std::array<uint32_t, kTileSize * kTileSize> winner;
     zbuffer.fill(kEmptyKey);
-    for (uint32_t k = tile_begin_[t]; k != tile_begin_[t + 1]; ++k)
-      if (const ProjectedPoint& r = binned_[k]; r.key < zbuffer[r.tile_pixel]) zbuffer[r.tile_pixel] = r.key, winner[r.tile_pixel] = k;
+    winner.fill(0);
+    for (uint32_t k = tile_begin_[t]; k != tile_begin_[t + 1]; ++k) {  // selects, not branches
+      const ProjectedPoint& r = binned_[k];
+      const bool nearer = r.key < zbuffer[r.tile_pixel];
+      zbuffer[r.tile_pixel] = nearer ? r.key : zbuffer[r.tile_pixel];
+      winner[r.tile_pixel] = nearer ? k : winner[r.tile_pixel];
+    }
+    // Unpacked without branches; an empty pixel keeps its region and colour word (not read).
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) {
         const size_t i = image_.index(x, y), local = size_t(y - y0) * kTileSize + size_t(x - x0);
         const uint64_t key = zbuffer[local];
-        if (key == kEmptyKey) {
-          winners_[i] = image_.point[i] = -1;
-          image_.depth[i] = std::numeric_limits<float>::infinity();
-          continue;
-        }
-        winners_[i] = image_.point[i] = int32_t(uint32_t(key) & kIndexMask);
-        image_.depth[i] = std::bit_cast<float>(uint32_t(key >> 32));
-        image_.region[i] = uint8_t((uint32_t(key) >> 28) & 15);
-        pixel_word_[i] = binned_[winner[local]].word, pixel_age_bin_[i] = binned_[winner[local]].age_bin;
+        const bool empty = key == kEmptyKey;
+        const ProjectedPoint& won = binned_.empty() ? kNoRecord : binned_[winner[local]];
+        winners_[i] = image_.point[i] = empty ? -1 : int32_t(uint32_t(key) & kIndexMask);
+        image_.depth[i] = empty ? std::numeric_limits<float>::infinity() : std::bit_cast<float>(uint32_t(key >> 32));
+        image_.region[i] = empty ? image_.region[i] : uint8_t((uint32_t(key) >> 28) & 15);
+        pixel_word_[i] = won.word, pixel_age_bin_[i] = won.age_bin;
       }
     if (!depth_cull) count_drawn(t, x0, y0, x1, y1);
   });
@@ -269,13 +274,12 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
 }
 
 void PointCache::count_drawn(size_t tile, int x0, int y0, int x1, int y1) {
-  std::array<uint32_t, kAgeBins> ages{};
-  size_t drawn = 0;
+  std::array<uint32_t, kAgeBins + 1> ages{};  // empty pixels count in the last bin (no branch)
   for (int y = y0; y < y1; ++y)
     for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i)
-      if (image_.point[i] >= 0) ++drawn, ++ages[pixel_age_bin_[i] & ~kShowsNothing];
-  tile_blocks_[tile].drawn = drawn;
-  tile_blocks_[tile].ages.assign(ages.begin(), ages.end());
+      ++ages[image_.point[i] >= 0 ? size_t(pixel_age_bin_[i] & ~kShowsNothing) : kAgeBins];
+  tile_blocks_[tile].drawn = size_t((x1 - x0) * (y1 - y0)) - ages[kAgeBins];
+  tile_blocks_[tile].ages.assign(ages.begin(), ages.end() - 1);
 }
 
 bool PointCache::back_facing(const CachePoint& p) const {
@@ -307,11 +311,11 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
   // minimum x (1 + offset) (most of them) keeps its point without the mean.
   window_min_depth(1);
   // The means see the z-buffer's winners: culled pixels are listed per band, removed after.
-  for_bands(h, [&](int y0, int y1, std::vector<uint32_t>& culled) {
-    for (int y = y0; y != y1; ++y)
-      for (int x = 0; x < w; ++x) {
+  const float *depth = image_.depth.data(), *min_depth = min_depth_.data();
+  const int32_t* point = image_.point.data();
+  for_candidates([=](size_t i) { return (depth[i] > min_depth[i] * cull_scale) & (point[i] >= 0); },
+                 [&](int x, int y, std::vector<uint32_t>& culled) {
         const size_t i = image_.index(x, y);
-        if (!(image_.depth[i] > min_depth_[i] * cull_scale) || image_.point[i] < 0) continue;
         double sum = 0.0;
         int n = 0;
         for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
@@ -322,7 +326,6 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
             ++n;
           }
         if (image_.depth[i] > float(sum / n) * cull_scale && !protected_pixel(x, y)) culled.push_back(uint32_t(i));
-      }
   });
   return remove_listed();
 }
@@ -580,7 +583,7 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
 size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                         const EdgeCrossings& crossings) {
   if (settings_.reference_path) return cull_behind_surfaces_reference(frame, object_to_world, crossings);
-  const int w = image_.width, h = image_.height, radius = std::max(1, settings_.occlusion_radius);
+  const int radius = std::max(1, settings_.occlusion_radius);
   const float scale = 1.0f + settings_.occlusion_margin;
   // Normals back to world space: the inverse transpose of each object's matrix.
   normal_to_world_.resize(object_to_world.size());
@@ -589,14 +592,11 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   // (most of them) is skipped without looking at its neighbours.
   window_min_depth(radius);
   // The test sees the image before the pass: hidden pixels are listed per band, removed after.
-  for_bands(h, [&](int y0, int y1, std::vector<uint32_t>& hidden) {
-    for (int y = y0; y != y1; ++y)
-      for (int x = 0; x < w; ++x) {
-        const size_t i = image_.index(x, y);
-        const float depth = image_.depth[i];
-        if (!(min_depth_[i] * scale < depth) || image_.point[i] < 0) continue;
-        if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y)) hidden.push_back(uint32_t(i));
-      }
+  const float *depth = image_.depth.data(), *min_depth = min_depth_.data();
+  const int32_t* point = image_.point.data();
+  for_candidates([=](size_t i) { return (min_depth[i] * scale < depth[i]) & (point[i] >= 0); },
+                 [&](int x, int y, std::vector<uint32_t>& hidden) {
+    if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y)) hidden.push_back(uint32_t(image_.index(x, y)));
   });
   return remove_listed();
 }
@@ -606,12 +606,17 @@ void PointCache::window_min_depth(int radius) {
   row_min_depth_.resize(image_.depth.size());
   min_depth_.resize(image_.depth.size());
   tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y != rows.end(); ++y)
-      for (int x = 0; x < w; ++x) {
-        float m = std::numeric_limits<float>::infinity();
-        for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius); ++qx) m = std::min(m, image_.depth[image_.index(qx, y)]);
-        row_min_depth_[image_.index(x, y)] = m;
+    // The minimum of the row shifted by -r..r, one shift at a time (vectorizable loops; the
+    // minimum of depths, never NaN, does not depend on the order).
+    for (int y = rows.begin(); y != rows.end(); ++y) {
+      const float* in = &image_.depth[image_.index(0, y)];
+      float* out = &row_min_depth_[image_.index(0, y)];
+      std::copy(in, in + w, out);
+      for (int d = 1; d <= radius && d < w; ++d) {
+        for (int x = d; x < w; ++x) out[x] = std::min(out[x], in[x - d]);
+        for (int x = 0; x + d < w; ++x) out[x] = std::min(out[x], in[x + d]);
       }
+    }
   });
   tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y) {
@@ -631,6 +636,28 @@ void PointCache::for_bands(int height, const BandPass& pass) {
   tbb::parallel_for(size_t(0), band_lists_.size(), [&](size_t b) {
     band_lists_[b].clear();
     pass(int(b) * kBandRows, std::min(height, int(b + 1) * kBandRows), band_lists_[b]);
+  });
+}
+
+template <class Candidate, class Visit>
+void PointCache::for_candidates(const Candidate& candidate, const Visit& visit) {
+  const int w = image_.width;
+  constexpr int kChunk = 256;
+  for_bands(image_.height, [&](int y0, int y1, std::vector<uint32_t>& list) {
+    for (int y = y0; y != y1; ++y)
+      for (int x0 = 0; x0 < w; x0 += kChunk) {
+        const int n = std::min(kChunk, w - x0);
+        const size_t row = image_.index(x0, y);
+        std::array<uint8_t, kChunk + 8> flags{};  // zero past n
+        for (int k = 0; k < n; ++k) flags[size_t(k)] = uint8_t(candidate(row + size_t(k)));
+        for (int k = 0; k < n; k += 8) {
+          uint64_t any;
+          std::memcpy(&any, &flags[size_t(k)], 8);
+          if (any == 0) continue;
+          for (int j = k; j < std::min(n, k + 8); ++j)
+            if (flags[size_t(j)]) visit(x0 + j, y, list);
+        }
+      }
   });
 }
 
@@ -675,15 +702,23 @@ void PointCache::fill_epi(EpiImage& epi) const {
   if (epi.width != image_.width || epi.height != image_.height)
     throw std::invalid_argument("point cache: EPI size differs from the cache's image size");
   tbb::parallel_for(tbb::blocked_range<size_t>(0, image_.point.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
+    if (pixel_words_current_) {  // a copy, without branches (drawn and empty pixels alternate at random)
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        const bool shown = (image_.point[i] >= 0) & ((pixel_age_bin_[i] & kShowsNothing) == 0);
+        epi.edge[i] = shown ? uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample) : uint16_t(0);
+        epi.color[i] = shown ? pixel_word_[i] : 0u;
+      }
+      return;
+    }
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const int32_t p = image_.point[i];
-      if (p < 0 || (pixel_words_current_ ? (pixel_age_bin_[i] & kShowsNothing) != 0 : shows_nothing(points_[size_t(p)]))) {
+      if (p < 0 || shows_nothing(points_[size_t(p)])) {
         epi.edge[i] = 0;
         epi.color[i] = 0;
         continue;
       }
       epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
-      epi.color[i] = pixel_words_current_ ? pixel_word_[i] : epi_color_word(points_[size_t(p)]);
+      epi.color[i] = epi_color_word(points_[size_t(p)]);
     }
   });
 }

@@ -201,6 +201,11 @@ class PointCache {
   // list in band_lists_; remove_listed() then empties the listed pixels and counts them.
   template <class BandPass>
   void for_bands(int height, const BandPass& pass);
+  // for_bands over the pixels where candidate(pixel index) holds: visit(x, y, list). The test runs
+  // over a chunk of a row first, without branches (drawn and empty pixels alternate at random),
+  // so the visits (rare) are the only branch taken.
+  template <class Candidate, class Visit>
+  void for_candidates(const Candidate& candidate, const Visit& visit);
   size_t remove_listed();
 
   PointCacheSettings settings_;

@@ -124,7 +124,7 @@ TEST(PointCacheFastPath, FramesAlongTheCameraPathsMatchTheReferenceBitForBit) {
 // every entry point (project with and without the cull, depth_cull with edges,
 // cull_behind_surfaces, fill_epi), all ages up to expiry.
 TEST(PointCacheFastPath, RandomCloudsMatchTheReferenceBitForBit) {
-  for (const auto [w, h] : {std::pair{1, 1}, std::pair{1, 17}, std::pair{23, 1}, std::pair{31, 19}, std::pair{64, 64}}) {
+  for (const auto& [w, h] : {std::pair{1, 1}, std::pair{1, 17}, std::pair{23, 1}, std::pair{31, 19}, std::pair{64, 64}}) {
     for (int threads : {1, 2}) {
       const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
       PointCacheSettings settings;
