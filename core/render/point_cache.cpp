@@ -1,6 +1,7 @@
 #include "render/point_cache.h"
 
 #include "render/point_cache_detail.h"
+#include "render/point_projection.h"
 
 #include <algorithm>
 #include <array>
@@ -108,8 +109,12 @@ float PointCache::view_share(const CachePoint& p) {
   return total > 0.0f ? std::clamp(luminance(p.view_dependent) / total, 0.0f, 1.0f) : 0.0f;
 }
 
+bool PointCache::view_dependent(const CachePoint& p) {
+  return p.lobe_width > 0.0f && p.object != kNone && view_share(p) > 0.0f;
+}
+
 uint8_t PointCache::view_staleness(const CachePoint& p, const glm::vec3& to_eye) const {
-  if (p.lobe_width <= 0.0f || p.object == kNone || view_share(p) <= 0.0f) return 0;
+  if (!view_dependent(p)) return 0;
   const float length = glm::length(to_eye);
   if (!(length > 0.0f)) return 0;
   return staleness_steps(std::clamp(glm::dot(to_eye / length, unpack_unit(p.view)), -1.0f, 1.0f),
@@ -141,47 +146,69 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     size_t projected = 0, expired = 0, back_facing_points = 0;
     block.free.clear();
     block.tile_count.assign(tiles, 0);
-    for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
-      CachePoint& p = points_[i];
-      point_tile_[i] = kNoTile;
-      if (!p.valid) {
-        block.free.push_back(uint32_t(i));
-        continue;
+    // In batches: the ages and world positions (scalar), then the projections and the
+    // staleness (project_batch, vectors), then the rest (scalar).
+    ProjectionBatch batch;
+    for (size_t first = b * kPointBlock, block_end = std::min(n, first + kPointBlock); first < block_end;
+         first += ProjectionBatch::kSize) {
+      const size_t count = std::min(ProjectionBatch::kSize, block_end - first);
+      for (size_t k = 0; k < ProjectionBatch::kSize; ++k) {
+        glm::vec3 world(0.0f);
+        batch.view[k] = 0, batch.lobe_width[k] = 1.0f;
+        if (k < count && points_[first + k].valid) {
+          CachePoint& p = points_[first + k];
+          p.age = uint16_t(std::min(p.age + 1, 0xffff));
+          world = world_position(p, frame, object_to_world);
+          batch.view[k] = p.view, batch.lobe_width[k] = std::max(p.lobe_width, kMinLobeWidth);
+        }
+        batch.x[k] = world.x, batch.y[k] = world.y, batch.z[k] = world.z;
       }
-      p.age = uint16_t(std::min(p.age + 1, 0xffff));
-      const glm::vec3 world = world_position(p, frame, object_to_world);
-      p.staleness = view_staleness(p, frame.eye() - world);
-      const Projection proj = frame.project(world);
-      const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
-                          proj.pixel.x < float(w) && proj.pixel.y < float(h);
-      if (!inside) {
-        p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
-        p.image_id = -1;
+      project_batch(frame, batch, count);
+      for (size_t k = 0; k < count; ++k) {
+        const size_t i = first + k;
+        CachePoint& p = points_[i];
+        point_tile_[i] = kNoTile;
+        if (!p.valid) {
+          block.free.push_back(uint32_t(i));
+          continue;
+        }
+        const glm::vec3 world(batch.x[k], batch.y[k], batch.z[k]);
+        p.staleness = !view_dependent(p) ? uint8_t(0)
+                      : batch.staleness[k] >= 0 ? uint8_t(batch.staleness[k])
+                                                : view_staleness(p, frame.eye() - world);
+        Projection proj;
+        proj.depth = batch.depth[k], proj.pixel = glm::vec2(batch.pixel_x[k], batch.pixel_y[k]);
+        const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
+                            proj.pixel.x < float(w) && proj.pixel.y < float(h);
+        if (!inside) {
+          p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
+          p.image_id = -1;
+        }
+        if (p.age > max_age) {
+          p.valid = false, p.image_id = -1;
+          ++expired;
+          block.free.push_back(uint32_t(i));
+          continue;
+        }
+        ++ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
+        if (!inside) continue;
+        if (back_facing(p)) {
+          p.image_id = -1;
+          ++back_facing_points;
+          continue;
+        }
+        const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
+        const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
+        const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
+        p.image_id = int32_t(uint32_t(py) * uint32_t(w) + uint32_t(px));
+        const uint32_t tile = uint32_t(py / kTileSize) * uint32_t(tiles_x) + uint32_t(px / kTileSize);
+        projected_[i] = {zkey(proj.depth, rx + 4 * ry, uint32_t(i)), epi_color_word(p),
+                         uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p) ? kShowsNothing : 0)),
+                         uint16_t(py % kTileSize * kTileSize + px % kTileSize)};
+        point_tile_[i] = tile;
+        ++block.tile_count[tile];
+        ++projected;
       }
-      if (p.age > max_age) {
-        p.valid = false, p.image_id = -1;
-        ++expired;
-        block.free.push_back(uint32_t(i));
-        continue;
-      }
-      ++ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
-      if (!inside) continue;
-      if (back_facing(p)) {
-        p.image_id = -1;
-        ++back_facing_points;
-        continue;
-      }
-      const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
-      const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
-      const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
-      p.image_id = int32_t(uint32_t(py) * uint32_t(w) + uint32_t(px));
-      const uint32_t tile = uint32_t(py / kTileSize) * uint32_t(tiles_x) + uint32_t(px / kTileSize);
-      projected_[i] = {zkey(proj.depth, rx + 4 * ry, uint32_t(i)), epi_color_word(p),
-                       uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p) ? kShowsNothing : 0)),
-                       uint16_t(py % kTileSize * kTileSize + px % kTileSize)};
-      point_tile_[i] = tile;
-      ++block.tile_count[tile];
-      ++projected;
     }
     block.projected = projected, block.expired = expired, block.back_facing = back_facing_points;
     block.ages.assign(ages.begin(), ages.end());

@@ -161,6 +161,8 @@ class PointCache {
   // How far the view has turned at p since it was shaded (to_eye: from the point to the eye now),
   // in 1/16 lobe widths; 0 for shading that does not depend on the view.
   uint8_t view_staleness(const CachePoint& p, const glm::vec3& to_eye) const;
+  // Whether p's shading depends on the view at all (else its staleness is 0).
+  static bool view_dependent(const CachePoint& p);
   // The share of p's colour that depends on the view.
   static float view_share(const CachePoint& p);
   bool refines(const CachePoint& cached, const CachePoint& result) const;
