@@ -26,7 +26,8 @@ struct ProjectionBatch {
   alignas(64) int32_t staleness[kSize];
 };
 
-// Fills the outputs of the first n entries of the batch (n <= kSize; the rest are computed too).
+// Fills the outputs of the first n entries of the batch (n <= kSize); the inputs must be set up
+// to n rounded up to 16 (a vector's lanes), or kSize.
 void project_batch(const ViewFrame& frame, ProjectionBatch& batch, size_t n);
 
 }  // namespace epi::render
