@@ -731,7 +731,7 @@ void PointCache::fill_epi(EpiImage& epi) const {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, image_.point.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
     if (pixel_words_current_) {  // a copy, without branches (drawn and empty pixels alternate at random)
       for (size_t i = r.begin(); i != r.end(); ++i) {
-        const bool shown = (image_.point[i] >= 0) & ((pixel_age_bin_[i] & kShowsNothing) == 0);
+        const bool shown = int(image_.point[i] >= 0) & int((pixel_age_bin_[i] & kShowsNothing) == 0);
         epi.edge[i] = shown ? uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample) : uint16_t(0);
         epi.color[i] = shown ? pixel_word_[i] : 0u;
       }
