@@ -166,7 +166,7 @@ void decode_stage(RowJob& j, int y) {
   const size_t plane = samples_plane(j.width);
   float* red = j.samples.row(y) + simd::kPad;
   j.kernels->decode({j.width, j.edge.row(y), j.types.row(y), &j.in.color[size_t(y) * size_t(j.width)],
-                     srgb8_to_linear().data(), side_descriptors().word, red, red + plane, red + 2 * plane, red + 3 * plane,
+                     epi_color8_to_linear().data(), side_descriptors().word, red, red + plane, red + 2 * plane, red + 3 * plane,
                      red + 4 * plane, j.sides.row(y) + simd::kPad});
 }
 
