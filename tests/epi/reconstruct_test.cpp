@@ -459,7 +459,9 @@ TEST(EpiColour, FineStepsUpToOneAndRatioStepsAbove) {
   const auto& table = epi_color8_to_linear();
   for (int c = 0; c < 256; ++c) {
     EXPECT_EQ(encode_epi_color8(table[size_t(c)]), c) << c;
-    if (c > 0) EXPECT_LT(table[size_t(c - 1)], table[size_t(c)]) << c;
+    if (c > 0) {
+      EXPECT_LT(table[size_t(c - 1)], table[size_t(c)]) << c;
+    }
   }
   EXPECT_EQ(table[0], 0.0f);
   EXPECT_FLOAT_EQ(table[kEpiUnitCode], 1.0f);
