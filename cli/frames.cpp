@@ -234,9 +234,9 @@ int run_render_frames(const RenderOptions& options) {
   const double frame_ms = median(series.total);
   const double samples_per_frame = mean(series.samples);
   // Pixels per new sample; none when no sample arrived (JSON null).
-  const std::optional<double> sparseness =
-      samples_per_frame > 0.0 ? std::optional<double>(double(options.width) * double(options.height) / samples_per_frame)
-                              : std::nullopt;
+  const bool sampled = samples_per_frame > 0.0;
+  const double sparseness = sampled ? double(options.width) * double(options.height) / samples_per_frame : 0.0;
+  const std::string sparseness_text = sampled ? std::to_string(int64_t(std::lround(sparseness))) : "-";
   double total_samples = 0.0;
   for (double n : series.samples) total_samples += n;
   std::printf("%s: %dx%d, %s, %d frames (%s shading), budget %.3f, %s shader, %d threads, %zu triangles\n",
@@ -248,7 +248,7 @@ int run_render_frames(const RenderOptions& options) {
     if (i.loop || options.sync) std::printf(" %s %.1f |", i.label, median(series.stages[size_t(i.stage)]));
   std::printf(" total %.1f ms (%.1f fps)\n", frame_ms, frame_ms > 0.0 ? 1000.0 / frame_ms : 0.0);
   std::printf("  %.0f samples per frame (sparseness %s) | pixels %.1f%% empty, %.1f%% simple, %.1f%% complex\n",
-              samples_per_frame, sparseness ? std::to_string(int64_t(std::lround(*sparseness))).c_str() : "-",
+              samples_per_frame, sparseness_text.c_str(),
               100.0 * mean(series.empty), 100.0 * mean(series.simple), 100.0 * mean(series.complex_pixels));
   std::printf("  shader: %llu rays, %.1f Mrays/s over %.0f ms of shading\n", (unsigned long long)rays, mrays_per_s,
               shading_seconds * 1e3);
@@ -298,7 +298,7 @@ int run_render_frames(const RenderOptions& options) {
           {"occluded", mean(series.points_occluded)},
           {"holes_filled", mean(series.holes_filled)}}},
         {"refined", refined},
-        {"sparseness", sparseness ? nlohmann::json(*sparseness) : nlohmann::json(nullptr)},
+        {"sparseness", sampled ? nlohmann::json(sparseness) : nlohmann::json(nullptr)},
         {"samples", total_samples},
         {"rays", rays},
         {"mrays_per_s", mrays_per_s},

@@ -14,6 +14,7 @@
 #include <memory>
 #include <random>
 #include <string>
+#include <thread>
 #include <tuple>
 
 #include <tbb/blocked_range.h>
@@ -365,14 +366,18 @@ void FilterArgs(benchmark::internal::Benchmark* b) {
         for (int threads : {1, 2}) b->Args({w, h, k, threads, edges});
   b->Unit(benchmark::kMillisecond)->UseManualTime();
 }
-// The oracle schedule, and the tiled stream with the best and the scalar target.
+// The oracle schedule, and the tiled stream with the best and the scalar target, on 1 and 2
+// threads; the best target also on 4, 8, 16... up to the machine's cores (docs/performance.md,
+// "Scaling past two cores").
 void ReconstructArgs(benchmark::internal::Benchmark* b) {
   const int scalar = int(simd::compiled_targets().size());
+  const int cores = int(std::thread::hardware_concurrency());
   for (auto [w, h] : kFilterSizes)
     for (int edges : {0, 1}) {
       b->Args({w, h, 0, 1, edges});
       for (int k : {1, scalar})
         for (int threads : {1, 2}) b->Args({w, h, k, threads, edges});
+      for (int threads = 4; threads <= cores; threads *= 2) b->Args({w, h, 1, threads, edges});
     }
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }

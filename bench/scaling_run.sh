@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Scaling past two cores (docs/performance.md): runs the reconstruction and the frame loop of one
+# or more benchmark bundles (tools/bench_bundle.sh) on this machine, on 1, 2, 4, ... cores, and
+# writes Google Benchmark JSON for bench/scaling_tables.py. Builds given together are measured in
+# the same run, one after the other, so their ratios are comparable.
+#   bench/scaling_run.sh OUT_DIR LABEL=BUNDLE.tar.xz [LABEL=BUNDLE.tar.xz ...]
+# Environment (defaults in brackets):
+#   SCALING_CORES         core counts for the frame loop [1 2 4 ... up to nproc]
+#   SCALING_RECONSTRUCT   epi_bench filter [1080p and 4K, tiled stream, best target, all threads]
+#   SCALING_FRAME         render_bench filter run at each core count [cornell_box and rooms, 1080p]
+#   SCALING_TABLE2        render_bench filter run on 2 cores, the paper's table 2 [every scene, 512²]
+# The frame loop's thread count is the affinity mask's size (taskset): TBB sizes its arena from it.
+set -euo pipefail
+[ $# -ge 2 ] || { echo "usage: $0 OUT_DIR LABEL=BUNDLE.tar.xz [...]" >&2; exit 2; }
+out=$1; shift
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+mkdir -p "$out"
+cores_default=""
+for ((c = 1; c <= $(nproc); c *= 2)); do cores_default+="$c "; done
+cores=${SCALING_CORES:-$cores_default}
+reconstruct=${SCALING_RECONSTRUCT:-'BM_StreamingFloor/(1920|3840)|BM_Reconstruct/(1920/1080|3840/2160)/1/'}
+frame=${SCALING_FRAME:-'BM_Frame/(0|2)/1920/1080/2/'}
+table2=${SCALING_TABLE2:-'BM_Frame/[0-4]/512/512/2/'}
+json=(--benchmark_out_format=json)
+for spec in "$@"; do
+  label=${spec%%=*} bundle=${spec#*=}
+  [ -f "$bundle" ] || { echo "$0: $bundle: no such bundle" >&2; exit 1; }
+  dir=$(mktemp -d)
+  tar xJf "$bundle" -C "$dir"
+  b=$dir/b
+  src=$(cat "$b/source_dir")
+  if [ ! -e "$src/scenes" ]; then
+    mkdir -p "$(dirname "$src")" && ln -sfn "$root" "$src" || { echo "$0: cannot link $src to $root (the scenes)" >&2; exit 1; }
+  fi
+  export LD_LIBRARY_PATH=$b/lib
+  echo "== $label: reconstruction"
+  [ "$reconstruct" = none ] || "$b/epi_bench" --benchmark_filter="$reconstruct" --benchmark_out="$out/${label}_reconstruct.json" "${json[@]}" 2>&1 | grep -E "^BM_"
+  for c in $cores; do
+    [ "$frame" = none ] && break
+    echo "== $label: frame loop on $c cores"
+    taskset -c "0-$((c - 1))" "$b/render_bench" --benchmark_filter="$frame" --benchmark_out="$out/${label}_frame_c$c.json" "${json[@]}" 2>&1 | grep -E "^BM_" | cut -c1-160
+  done
+  if [ "$table2" != none ]; then
+    echo "== $label: table 2 on 2 cores"
+    taskset -c 0-1 "$b/render_bench" --benchmark_filter="$table2" --benchmark_out="$out/${label}_table2.json" "${json[@]}" 2>&1 | grep -E "^BM_" | cut -c1-160
+  fi
+  rm -rf "$dir"
+done

@@ -1,0 +1,160 @@
+#!/usr/bin/python3
+"""Scaling past two cores (docs/performance.md, "Scaling past two cores"): turns Google Benchmark
+JSON from a many-core machine into a Markdown table of time and speed-up against thread count,
+and a PNG chart (matplotlib), so that no figure there is typed by hand.
+
+Inputs, each given as LABEL=FILE (LABEL names the build, e.g. the commit, so that two builds
+measured in one run sit side by side):
+  --reconstruct LABEL=FILE   epi_bench JSON with the BM_Reconstruct rows of the tiled stream on
+                             1, 2, 4, ... threads (ReconstructArgs adds them up to the cores).
+  --frame LABEL@CORES=FILE   render_bench JSON of BM_Frame run under `taskset -c 0-(CORES-1)`:
+                             TBB sizes its arena from the affinity mask, so CORES is the thread count.
+
+  --dir DIR                  everything bench/scaling_run.sh wrote there (LABEL_reconstruct.json,
+                             LABEL_frame_cCORES.json).
+
+  /usr/bin/python3 bench/scaling_tables.py --dir scaling --chart docs/images/scaling.png
+"""
+import argparse
+import glob
+import json
+import os
+import re
+import sys
+from collections import defaultdict
+
+SCENES = ["cornell_box", "chains", "rooms", "torus_capsule", "grid_dragon"]  # render_bench's kScenes
+SIZES = {(512, 512): "512²", (1920, 1080): "1080p", (3840, 2160): "4K"}
+
+
+def load(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError) as e:
+        sys.exit(f"scaling_tables.py: {path}: {e}")
+
+
+def best(rows):
+    """The best (smallest) time of each benchmark name, in ms, with its counters."""
+    out = {}
+    for b in rows:
+        if b.get("run_type") == "aggregate" or b.get("error_occurred"):
+            continue
+        key = b["name"].split("/min_time")[0].split("/real_time")[0].split("/manual_time")[0]
+        if key not in out or b["real_time"] < out[key]["real_time"]:
+            out[key] = b
+    return out
+
+
+def reconstruct_rows(label, path):
+    """(label, size, edges, threads) -> ms, for the tiled stream with the best target (kernel 1)."""
+    rows = {}
+    for name, b in best(load(path)["benchmarks"]).items():
+        m = re.match(r"BM_Reconstruct/(\d+)/(\d+)/1/(\d+)/(\d)$", name)
+        if m:
+            w, h, threads, edges = map(int, m.groups())
+            rows[(label, (w, h), "many" if edges else "few", threads)] = b["real_time"]
+            rows[(label, (w, h), "many" if edges else "few", "floor")] = b.get("floor_ms", 0)
+    return rows
+
+
+def frame_rows(label, cores, path):
+    """(label, scene, size, cores) -> (loop ms, counters) for BM_Frame mode 2 (the tiled path)."""
+    rows = {}
+    for name, b in best(load(path)["benchmarks"]).items():
+        m = re.match(r"BM_Frame/(\d)/(\d+)/(\d+)/2$", name)
+        if m:
+            scene, w, h = map(int, m.groups())
+            rows[(label, SCENES[scene], (w, h), cores)] = (b["loop_ms"], b)
+    return rows
+
+
+def spec(text, with_cores):
+    label, _, path = text.partition("=")
+    if not path:
+        sys.exit(f"scaling_tables.py: '{text}' is not LABEL=FILE")
+    if with_cores:
+        label, _, cores = label.partition("@")
+        if not cores.isdigit():
+            sys.exit(f"scaling_tables.py: '{text}' is not LABEL@CORES=FILE")
+        return label, int(cores), path
+    return label, path
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--reconstruct", action="append", default=[])
+    ap.add_argument("--frame", action="append", default=[])
+    ap.add_argument("--dir")
+    ap.add_argument("--chart")
+    args = ap.parse_args()
+    if args.dir:
+        for path in sorted(glob.glob(os.path.join(args.dir, "*.json"))):
+            m = re.match(r"(.+)_(reconstruct|frame_c(\d+))\.json$", os.path.basename(path))
+            if m and m.group(2) == "reconstruct":
+                args.reconstruct.append(f"{m.group(1)}={path}")
+            elif m:
+                args.frame.append(f"{m.group(1)}@{m.group(3)}={path}")
+    recon, frames = {}, {}
+    for s in args.reconstruct:
+        recon.update(reconstruct_rows(*spec(s, False)))
+    for s in args.frame:
+        frames.update(frame_rows(*spec(s, True)))
+    if not recon and not frames:
+        sys.exit("scaling_tables.py: no BM_Reconstruct or BM_Frame rows in the inputs")
+
+    series = []  # (title, label, xs, ms) for the chart
+    if recon:
+        print("The whole reconstruction (epi_bench BM_Reconstruct, tiled stream, best target), ms and speed-up over 1 thread:\n")
+        threads = sorted({k[3] for k in recon if k[3] != "floor"})
+        print("| build | size | edges | " + " | ".join(f"{t} T" for t in threads) + " | floor ms (1 T) |")
+        print("|---|---|---|" + "---|" * (len(threads) + 1))
+        for label, size, edges in sorted({k[:3] for k in recon}):
+            ts = sorted(t for (l, s, e, t) in recon if (l, s, e) == (label, size, edges) and t != "floor")
+            one = recon.get((label, size, edges, 1))
+            cells = [f"{recon[(label, size, edges, t)]:.1f}" + (f" ({one / recon[(label, size, edges, t)]:.1f}x)" if one else "") for t in ts]
+            print(f"| {label} | {SIZES.get(size, size)} | {edges} | " + " | ".join(cells) + f" | {recon[(label, size, edges, 'floor')]:.2f} |")
+            series.append((f"reconstruction {SIZES.get(size, size)}, {edges} edges", label, ts, [recon[(label, size, edges, t)] for t in ts]))
+        print()
+    if frames:
+        all_cores = sorted({k[3] for k in frames})
+        print("An EPI frame along the scene's path (render_bench BM_Frame, tiled reconstruction, shading excluded), loop ms and speed-up over the fewest cores measured:\n")
+        print("| build | scene | size | " + " | ".join(f"{c} cores" for c in all_cores) + " | points / sampling / interp ms at the most cores |")
+        print("|---|---|---|" + "---|" * (len(all_cores) + 1))
+        for label, scene, size in sorted({k[:3] for k in frames}):
+            cs = sorted(c for (l, sc, s, c) in frames if (l, sc, s) == (label, scene, size))
+            first = frames[(label, scene, size, cs[0])][0]
+            cells = []
+            for c in all_cores:
+                v = frames.get((label, scene, size, c))
+                cells.append("" if v is None else f"{v[0]:.1f} ({first / v[0]:.1f}x)")
+            top = frames[(label, scene, size, cs[-1])][1]
+            stages = " / ".join(f"{top.get(k, 0):.1f}" for k in ("points_ms", "sampling_ms", "interpolate_ms"))
+            print(f"| {label} | {scene} | {SIZES.get(size, size)} | " + " | ".join(cells) + f" | {stages} |")
+            series.append((f"frame {SIZES.get(size, size)}, {scene}", label, cs, [frames[(label, scene, size, c)][0] for c in cs]))
+        print()
+
+    if args.chart:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        top = 1
+        for title, label, xs, ms in series:
+            speedup = [ms[0] * xs[0] / m for m in ms]  # relative to one thread, extrapolated from the first point
+            ax.plot(xs, speedup, marker="o", label=f"{label}: {title}")
+            top = max(top, max(xs))
+        ax.plot([1, top], [1, top], "k--", linewidth=0.8, label="linear")
+        ax.set_xscale("log", base=2)
+        ax.set_yscale("log", base=2)
+        ax.set_xlabel("threads (cores)")
+        ax.set_ylabel("speed-up over one thread")
+        ax.legend(fontsize=7)
+        ax.grid(True, which="both", alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(args.chart, dpi=110)
+
+
+if __name__ == "__main__":
+    main()
