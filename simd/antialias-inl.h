@@ -23,8 +23,31 @@ namespace epi::simd {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
+// kNeighbourDx/Dy (tables.h) + 1 as 2-bit fields: dx 1,0,-1,0,1,-1,-1,1; dy 0,1,0,-1,1,1,-1,-1.
+constexpr uint32_t kNeighbourDx = 2 | 1 << 2 | 0 << 4 | 1 << 6 | 2 << 8 | 0 << 10 | 0 << 12 | 2 << 14;
+constexpr uint32_t kNeighbourDy = 1 | 2 << 2 | 1 << 4 | 0 << 6 | 2 << 8 | 2 << 10 | 0 << 12 | 0 << 14;
+
+// One simple pixel x (type, code), the operations of one lane of AntialiasLanes in its order
+// (so the same bits); `out` holds the own colour already.
+inline void AntialiasPixel(const AntialiasRow& row, int x, uint32_t type, uint32_t code, const float* own, float* out) {
+  const uint32_t packed = row.area_and_secondary[code];
+  const bool primary_is_b = ((type - 2) & 1) != 0;
+  const uint32_t secondary = packed >> 16;
+  const uint32_t k = (primary_is_b ? secondary : secondary >> 4) & 15;
+  const int dx = int((kNeighbourDx >> (2 * k)) & 3) - 1, dy = int((kNeighbourDy >> (2 * k)) & 3) - 1;
+  const int nx = x + dx;
+  const float* from = dy < 0 ? row.rows[0] : dy > 0 ? row.rows[2] : row.rows[1];
+  if (nx < 0 || nx >= row.width || !from) return;
+  const float* s = from + 3 * nx;
+  const float area = float(int32_t(packed & 0xffffu)) * (1.0f / 65535.0f);
+  const float a = primary_is_b ? 1.0f - area : area;
+  const float not_a = 1.0f - a;
+  for (int c = 0; c < 3; ++c) out[c] = a * own[c] + not_a * s[c];
+}
+
 // Lanes x .. x + N - 1; `types`, `edge`, `own` (the own colours) and `out` start at x; the
-// secondary colours are gathered from the rows.
+// secondary colours are gathered from the rows, or, for a vector with few simple pixels, read
+// pixel by pixel (gathers cost per lane: on Zen 4 four gathers cost more than a few pixels).
 template <class DF>
 HWY_INLINE void AntialiasLanes(DF df, const AntialiasRow& row, int x, const uint8_t* types, const uint16_t* edge,
                                const float* own, float* out) {
@@ -41,6 +64,15 @@ HWY_INLINE void AntialiasLanes(DF df, const AntialiasRow& row, int x, const uint
   const auto simple = hn::And(hn::Ne(hn::ShiftRight<1>(type), hn::Zero(du)),
                               hn::Eq(hn::And(hn::Add(type, two), hn::Set(du, ~15u)), hn::Zero(du)));
   if (hn::AllFalse(du, simple)) return CopyPixels(df, own, out);  // most vectors: the colours pass through
+  const size_t simple_count = hn::CountTrue(du, simple);
+  if (simple_count <= 4) {
+    CopyPixels(df, own, out);
+    HWY_ALIGN uint32_t t[HWY_LANES(uint32_t)], c[HWY_LANES(uint32_t)];
+    hn::Store(type, du, t), hn::Store(code, du, c);
+    for (size_t i = 0, found = 0; found < simple_count; ++i)
+      if (t[i] >= 2 && t[i] < 14) AntialiasPixel(row, x + int(i), t[i], c[i], own + 3 * i, out + 3 * i), ++found;
+    return;
+  }
   hn::Vec<DF> r, g, b;
   hn::LoadInterleaved3(df, own, r, g, b);
   const auto primary_is_b = hn::RebindMask(df, hn::Ne(hn::And(hn::Sub(type, two), one), hn::Zero(du)));
@@ -51,12 +83,9 @@ HWY_INLINE void AntialiasLanes(DF df, const AntialiasRow& row, int x, const uint
   // The neighbour for the secondary region: B's nibble when B is secondary (A primary).
   const VU k = hn::And(hn::IfThenElse(hn::RebindMask(du, primary_is_b), secondary, hn::ShiftRight<4>(secondary)),
                        hn::Set(du, 15u));
-  // kNeighbourDx/Dy (tables.h) + 1 as 2-bit fields: dx 1,0,-1,0,1,-1,-1,1; dy 0,1,0,-1,1,1,-1,-1.
-  constexpr uint32_t kDx = 2 | 1 << 2 | 0 << 4 | 1 << 6 | 2 << 8 | 0 << 10 | 0 << 12 | 2 << 14;
-  constexpr uint32_t kDy = 1 | 2 << 2 | 1 << 4 | 0 << 6 | 2 << 8 | 2 << 10 | 0 << 12 | 0 << 14;
   const VU shift = hn::ShiftLeft<1>(k);
-  const VI dx = hn::Sub(hn::BitCast(di, hn::And(hn::Shr(hn::Set(du, kDx), shift), hn::Set(du, 3u))), hn::Set(di, 1));
-  const VI dy = hn::Sub(hn::BitCast(di, hn::And(hn::Shr(hn::Set(du, kDy), shift), hn::Set(du, 3u))), hn::Set(di, 1));
+  const VI dx = hn::Sub(hn::BitCast(di, hn::And(hn::Shr(hn::Set(du, kNeighbourDx), shift), hn::Set(du, 3u))), hn::Set(di, 1));
+  const VI dy = hn::Sub(hn::BitCast(di, hn::And(hn::Shr(hn::Set(du, kNeighbourDy), shift), hn::Set(du, 3u))), hn::Set(di, 1));
   const VI nx = hn::Add(hn::Iota(di, x), dx);
   const auto up = hn::Eq(dy, hn::Set(di, -1)), down = hn::Eq(dy, hn::Set(di, 1));
   auto usable = hn::And(hn::RebindMask(di, simple),

@@ -19,12 +19,11 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 template <class DF>
-HWY_INLINE void DecodeLanes(DF df, const DecodeRow& row, const uint16_t* edge_in, const uint8_t* types_in,
+HWY_INLINE void DecodeLanes(DF df, const DecodeRow& row, const uint16_t* edge_in,
                             const uint32_t* color_in, float* red, float* green, float* blue, float* usable,
-                            float* sampled, uint32_t* sides) {
+                            float* sampled) {
   const hn::RebindToUnsigned<DF> du;
   const hn::RebindToSigned<DF> di;
-  const hn::Rebind<uint8_t, DF> d8;
   const hn::Rebind<uint16_t, DF> d16;
   const auto byte = hn::Set(du, 255u);
   const auto color = hn::LoadU(du, color_in);
@@ -37,8 +36,6 @@ HWY_INLINE void DecodeLanes(DF df, const DecodeRow& row, const uint16_t* edge_in
              df, usable);
   hn::StoreU(hn::IfThenElseZero(hn::RebindMask(df, hn::Ne(hn::And(edge, hn::Set(du, 0x4000u)), hn::Zero(du))), one),
              df, sampled);
-  const auto types = hn::PromoteTo(du, hn::LoadU(d8, types_in));
-  hn::StoreU(hn::GatherIndex(du, row.side_words, hn::BitCast(di, types)), du, sides);
 }
 
 inline void DecodeRowKernel(const DecodeRow& row) {
@@ -46,24 +43,21 @@ inline void DecodeRowKernel(const DecodeRow& row) {
   const int n = int(hn::Lanes(df));
   int x = 0;
   for (; x + n <= row.width; x += n)
-    DecodeLanes(df, row, row.edge + x, row.types + x, row.color + x, row.red + x, row.green + x, row.blue + x,
-                row.usable + x, row.sampled + x, row.sides + x);
+    DecodeLanes(df, row, row.edge + x, row.color + x, row.red + x, row.green + x, row.blue + x,
+                row.usable + x, row.sampled + x);
   if (x == row.width) return;
   // The last, partial vector through buffers: the planes' padding must stay as it is.
   constexpr int kMax = HWY_LANES(float);
   const int rest = row.width - x;
   uint16_t edge[kMax] = {};
-  uint8_t types[kMax] = {};
-  uint32_t color[kMax] = {}, sides[kMax];
+  uint32_t color[kMax] = {};
   float red[kMax], green[kMax], blue[kMax], usable[kMax], sampled[kMax];
   std::memcpy(edge, row.edge + x, size_t(rest) * sizeof(uint16_t));
-  std::memcpy(types, row.types + x, size_t(rest));
   std::memcpy(color, row.color + x, size_t(rest) * sizeof(uint32_t));
-  DecodeLanes(df, row, edge, types, color, red, green, blue, usable, sampled, sides);
+  DecodeLanes(df, row, edge, color, red, green, blue, usable, sampled);
   const size_t bytes = size_t(rest) * sizeof(float);
   std::memcpy(row.red + x, red, bytes), std::memcpy(row.green + x, green, bytes), std::memcpy(row.blue + x, blue, bytes);
   std::memcpy(row.usable + x, usable, bytes), std::memcpy(row.sampled + x, sampled, bytes);
-  std::memcpy(row.sides + x, sides, bytes);
 }
 
 }  // namespace HWY_NAMESPACE

@@ -34,28 +34,56 @@ inline float InterpolationWeight(int dx, int dy) {
 }
 
 // The outputs of a weighted mean (interpolate.h): the colour where something was found (the
-// rest is left to the caller's fallback), the total weight, and the priority: the age of an
-// own sample (`own`: 1 or 0) / 16, else 1 / total capped at 15.
+// rest is left to the caller's fallback), found (total weight > 0) as a byte, and the
+// priority: the age of an own sample (`own`: 1 or 0) / 16, else 1 / total capped at 15.
 template <class DF>
 HWY_INLINE void StoreMean(DF df, const float* own, const uint32_t* color, hn::Vec<DF> sr, hn::Vec<DF> sg,
-                          hn::Vec<DF> sb, hn::Vec<DF> total, float* rgb, float* total_out, float* priority_out) {
+                          hn::Vec<DF> sb, hn::Vec<DF> total, float* rgb, uint8_t* found_out, float* priority_out) {
   const hn::RebindToUnsigned<DF> du;
+  const hn::RebindToSigned<DF> di;
   const auto found = hn::Gt(total, hn::Zero(df));
   const auto safe = hn::IfThenElse(found, total, hn::Set(df, 1.0f));  // division only where found
   hn::StoreInterleaved3(hn::Div(sr, safe), hn::Div(sg, safe), hn::Div(sb, safe), df, rgb);
-  hn::StoreU(total, df, total_out);
+  hn::StoreU(hn::DemoteTo(hn::Rebind<uint8_t, DF>(), hn::IfThenElseZero(hn::RebindMask(di, found), hn::Set(di, 1))),
+             hn::Rebind<uint8_t, DF>(), found_out);
   const auto own_sample = hn::Gt(hn::LoadU(df, own), hn::Zero(df));
-  const auto age = hn::Mul(hn::ConvertTo(df, hn::BitCast(hn::RebindToSigned<DF>(), hn::ShiftRight<24>(hn::LoadU(du, color)))),
+  const auto age = hn::Mul(hn::ConvertTo(df, hn::BitCast(di, hn::ShiftRight<24>(hn::LoadU(du, color)))),
                            hn::Set(df, 1.0f / 16.0f));
   const auto by_weight = hn::IfThenElse(hn::Gt(hn::Mul(total, hn::Set(df, 15.0f)), hn::Set(df, 1.0f)),
                                         hn::Div(hn::Set(df, 1.0f), safe), hn::Set(df, 15.0f));
   hn::StoreU(hn::IfThenElse(own_sample, age, by_weight), df, priority_out);
 }
 
+// The 25 taps in the oracle's order (dy, then dx), tap k = (dy + 2) * 5 + dx + 2 taken where
+// bit k of `take` is set; flags (1 or 0) from `usable`, for kComplex lanes from `sampled`.
+template <bool kComplex, class DF>
+HWY_INLINE void SumTaps(DF df, const InterpolateRow& row, int x, hn::Vec<hn::RebindToUnsigned<DF>> take,
+                        hn::Mask<DF> complex, hn::Vec<DF>& sr, hn::Vec<DF>& sg, hn::Vec<DF>& sb, hn::Vec<DF>& total) {
+  const hn::RebindToUnsigned<DF> du;
+  for (int dy = -2; dy <= 2; ++dy) {
+    const int k0 = (dy + 2) * 5;
+    const float* red = row.red[dy + 2] + kPad + x;
+    const float* green = row.green[dy + 2] + kPad + x;
+    const float* blue = row.blue[dy + 2] + kPad + x;
+    const float* usable = row.usable[dy + 2] + kPad + x;
+    const float* sampled = row.sampled[dy + 2] + kPad + x;
+    for (int dx = -2; dx <= 2; ++dx) {
+      const auto bit = hn::RebindMask(df, hn::TestBit(take, hn::Set(du, 1u << (k0 + dx + 2))));
+      const auto flag = kComplex ? hn::IfThenElse(complex, hn::LoadU(df, sampled + dx), hn::LoadU(df, usable + dx))
+                                 : hn::LoadU(df, usable + dx);
+      const auto w = hn::IfThenElseZero(bit, hn::Mul(hn::Set(df, InterpolationWeight(dx, dy)), flag));
+      sr = hn::Add(sr, hn::Mul(w, hn::LoadU(df, red + dx)));
+      sg = hn::Add(sg, hn::Mul(w, hn::LoadU(df, green + dx)));
+      sb = hn::Add(sb, hn::Mul(w, hn::LoadU(df, blue + dx)));
+      total = hn::Add(total, w);
+    }
+  }
+}
+
 // Lanes x .. x + N - 1 of the row; `types`, `reach`, `color` and the outputs start at x.
 template <class DF>
 HWY_INLINE void InterpolateLanes(DF df, const InterpolateRow& row, int x, const uint8_t* types,
-                                 const uint32_t* reach, const uint32_t* color, float* rgb, float* total_out,
+                                 const uint32_t* reach, const uint32_t* color, float* rgb, uint8_t* found_out,
                                  float* priority_out) {
   const hn::RebindToUnsigned<DF> du;
   const hn::Rebind<uint8_t, DF> d8;
@@ -67,36 +95,19 @@ HWY_INLINE void InterpolateLanes(DF df, const InterpolateRow& row, int x, const 
   const VU window = hn::Or(hn::Or(hn::And(r, hn::Set(du, 0xfffu)), hn::Set(du, 1u << 12)),
                            hn::ShiftLeft<1>(hn::And(r, hn::Set(du, 0xfff000u))));
   const VU take = hn::IfThenElse(complex, hn::Set(du, 0x1ffffffu), window);
-  const auto complex_f = hn::RebindMask(df, complex);
-  const bool any_complex = !hn::AllFalse(du, complex);  // most vectors: only the usable flags
   auto sr = hn::Zero(df), sg = hn::Zero(df), sb = hn::Zero(df), total = hn::Zero(df);
-  for (int dy = -2; dy <= 2; ++dy) {
-    const int k0 = (dy + 2) * 5;
-    const float* red = row.red[dy + 2] + kPad + x;
-    const float* green = row.green[dy + 2] + kPad + x;
-    const float* blue = row.blue[dy + 2] + kPad + x;
-    const float* usable = row.usable[dy + 2] + kPad + x;
-    const float* sampled = row.sampled[dy + 2] + kPad + x;
-    for (int dx = -2; dx <= 2; ++dx) {
-      const auto bit = hn::RebindMask(df, hn::Ne(hn::And(take, hn::Set(du, 1u << (k0 + dx + 2))), hn::Zero(du)));
-      const auto flag = any_complex ? hn::IfThenElse(complex_f, hn::LoadU(df, sampled + dx), hn::LoadU(df, usable + dx))
-                                    : hn::LoadU(df, usable + dx);
-      const auto w = hn::IfThenElseZero(bit, hn::Mul(hn::Set(df, InterpolationWeight(dx, dy)), flag));
-      sr = hn::Add(sr, hn::Mul(w, hn::LoadU(df, red + dx)));
-      sg = hn::Add(sg, hn::Mul(w, hn::LoadU(df, green + dx)));
-      sb = hn::Add(sb, hn::Mul(w, hn::LoadU(df, blue + dx)));
-      total = hn::Add(total, w);
-    }
-  }
+  // Most vectors hold no complex pixel: only the usable flags.
+  if (hn::AllFalse(du, complex)) SumTaps<false>(df, row, x, take, hn::RebindMask(df, complex), sr, sg, sb, total);
+  else SumTaps<true>(df, row, x, take, hn::RebindMask(df, complex), sr, sg, sb, total);
   // Priority from a usable own sample (an edge-ambiguous one counts as none).
-  StoreMean(df, row.usable[2] + kPad + x, color, sr, sg, sb, total, rgb, total_out, priority_out);
+  StoreMean(df, row.usable[2] + kPad + x, color, sr, sg, sb, total, rgb, found_out, priority_out);
 }
 
 // The render cache's filter (rendercache.cpp) lane by lane: the 3x3 of every sample, weights
 // 1, 1/2, 1/4, in the oracle's order (dy, then dx); priority from any own sample.
 template <class DF>
 HWY_INLINE void RenderCacheLanes(DF df, const InterpolateRow& row, int x, const uint8_t*, const uint32_t*,
-                                 const uint32_t* color, float* rgb, float* total_out, float* priority_out) {
+                                 const uint32_t* color, float* rgb, uint8_t* found_out, float* priority_out) {
   static constexpr float kWeights[9] = {0.25f, 0.5f, 0.25f, 0.5f, 1.0f, 0.5f, 0.25f, 0.5f, 0.25f};
   auto sr = hn::Zero(df), sg = hn::Zero(df), sb = hn::Zero(df), total = hn::Zero(df);
   for (int dy = -1; dy <= 1; ++dy) {
@@ -110,7 +121,7 @@ HWY_INLINE void RenderCacheLanes(DF df, const InterpolateRow& row, int x, const 
       total = hn::Add(total, w);
     }
   }
-  StoreMean(df, row.sampled[2] + kPad + x, color, sr, sg, sb, total, rgb, total_out, priority_out);
+  StoreMean(df, row.sampled[2] + kPad + x, color, sr, sg, sb, total, rgb, found_out, priority_out);
 }
 
 // A row of `lanes` (InterpolateLanes, RenderCacheLanes): full vectors, then the last, partial
@@ -122,19 +133,20 @@ HWY_INLINE void MeanRow(const InterpolateRow& row, Lanes lanes) {
   const int n = int(hn::Lanes(df));
   int x = 0;
   for (; x + n <= row.width; x += n)
-    lanes(df, row, x, row.types + x, row.reach + x, row.color + x, row.rgb + 3 * x, row.total + x, row.priority + x);
+    lanes(df, row, x, row.types + x, row.reach + x, row.color + x, row.rgb + 3 * x, row.found + x, row.priority + x);
   if (x == row.width) return;
   constexpr int kMax = HWY_LANES(float);
   HWY_ALIGN uint8_t types[kMax] = {};
   HWY_ALIGN uint32_t reach[kMax] = {}, color[kMax] = {};
-  HWY_ALIGN float rgb[3 * kMax], total[kMax], priority[kMax];
+  HWY_ALIGN float rgb[3 * kMax], priority[kMax];
+  HWY_ALIGN uint8_t found[kMax];
   const int rest = row.width - x;
   std::memcpy(types, row.types + x, size_t(rest));
   std::memcpy(reach, row.reach + x, size_t(rest) * 4);
   std::memcpy(color, row.color + x, size_t(rest) * 4);
-  lanes(df, row, x, types, reach, color, rgb, total, priority);
+  lanes(df, row, x, types, reach, color, rgb, found, priority);
   std::memcpy(row.rgb + 3 * x, rgb, size_t(rest) * 12);
-  std::memcpy(row.total + x, total, size_t(rest) * 4);
+  std::memcpy(row.found + x, found, size_t(rest));
   std::memcpy(row.priority + x, priority, size_t(rest) * 4);
 }
 

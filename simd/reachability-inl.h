@@ -1,11 +1,17 @@
-// The reachability row kernel (per target; included by row_kernels.cpp through
+// The reachability row kernels (per target; included by row_kernels.cpp through
 // foreach_target.h). The oracle's propagation (reachability.cpp: monotone staircase paths
 // from the centre, offsets by Manhattan distance, each step a neighbour relation chained onto
-// the path so far, the paths OR-ed), lane by lane: one pixel per 32-bit lane. The relations
-// are 2x2 boolean matrices in 4 bits (bit 2a + b: region a of one pixel reaches region b of
-// the other; region 0 primary, 1 secondary). A neighbour relation depends only on what each
-// pixel shows on the shared side (ReachTables: 4 descriptors, looked up by type in a 16-byte
-// table, and a 16-byte relation table); chaining is bit arithmetic. Integer logic only: equal
+// the path so far, the paths OR-ed), one pixel per byte lane (64 pixels a vector on AVX3).
+//
+// Two facts make it cheap. (1) The neighbour relation of two adjacent pixels depends only on
+// the pair, not on the window: RelationRowKernel computes it once per row and direction
+// (RelationRow: three 16-byte table lookups per lane), and the windows that cross a pair read it (each row's relations serve five
+// rows of reachability). (2) Only the primary region of the centre matters (the mask is
+// primary-to-primary): a path's state is the set of regions of the current pixel it reaches
+// (2 bits), not a 2x2 relation. A step ANDs the pixel pair's 4-bit relation with the state
+// spread as X = P * 0b0011 | S * 0b1100 (bit 2a + b survives when region a is reached and
+// reaches b), ORs over the one or two predecessors, and one 16-byte table lookup turns the 4
+// bits into the next state; a second lookup gives the result bit. Integer logic only: equal
 // to the oracle on every lane.
 #if defined(EPI_SIMD_REACHABILITY_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef EPI_SIMD_REACHABILITY_INL_H_
@@ -26,13 +32,59 @@ namespace epi::simd {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
+// A 16-byte table looked up per byte lane: indices 0-15, or 0x80 and above for 0.
+template <class D>
+struct Table16 {
+#if HWY_TARGET == HWY_SCALAR
+  const uint8_t* bytes;
+  Table16(D, const uint8_t* table) : bytes(table) {}
+  hn::Vec<D> operator()(D d, hn::Vec<D> index) const {
+    const uint8_t i = hn::GetLane(index);
+    return hn::Set(d, i & 0x80 ? uint8_t(0) : bytes[i & 15]);
+  }
+#else
+  hn::Vec<D> bytes;
+  Table16(D d, const uint8_t* table) : bytes(hn::LoadDup128(d, table)) {}
+  hn::Vec<D> operator()(D, hn::Vec<D> index) const { return hn::TableLookupBytesOr0(bytes, index); }
+#endif
+};
+
+// The relations of one row (RelationRow): per byte lane, the two pixels' side codes by type
+// (one table lookup each), OR-ed into the index of the relation table.
+template <class D8>
+HWY_INLINE void RelationLanes(D8 d8, const RelationRow& row, int x) {
+  using V = hn::Vec<D8>;
+  const RelationTables& t = *row.tables;
+  const Table16<D8> relation(d8, t.relation);
+  const uint8_t* types = row.types + kPad + x;
+  const V own = hn::LoadU(d8, types), left = hn::LoadU(d8, types - 1), right = hn::LoadU(d8, types + 1);
+  const V above = hn::LoadU(d8, row.above + kPad + x);
+  // from's side `side` faces to's side `side` + 2.
+  auto between = [&](V from, V to, int side) {
+    return relation(d8, hn::Or(Table16<D8>(d8, t.from[side])(d8, from), Table16<D8>(d8, t.to[(side + 2) & 3])(d8, to)));
+  };
+  uint8_t* out = row.out + x;
+  hn::StoreU(between(own, right, 1), d8, out);
+  hn::StoreU(between(own, left, 3), d8, out + row.plane);
+  hn::StoreU(between(above, own, 2), d8, out + 2 * row.plane);
+  hn::StoreU(between(own, above, 0), d8, out + 3 * row.plane);
+}
+
+// Whole vectors up to the end of the row: beyond it the types are blocked (padding), so the
+// relations written there are the zeros the planes hold.
+inline void RelationRowKernel(const RelationRow& row) {
+  const hn::ScalableTag<uint8_t> d8;
+  const int n = int(hn::Lanes(d8));
+  for (int x = 0; x < row.width; x += n) RelationLanes(d8, row, x);
+}
+
 // The oracle's step order (reachability.cpp, make_steps<2>): window index (dy+2)*5 + dx+2,
-// predecessors one step closer to the centre, the side of the predecessor the step crosses
-// (0 top, 1 right, 2 bottom, 3 left).
+// predecessors one step closer to the centre and the relation row, plane and column offset
+// of the step from each.
 struct ReachStep {
   int index, bit;
   bool forward;  // a later row, the rest of the own row to the right, or (-1, 0), (-2, 0)
-  int pred[2], side[2];
+  int pred[2], row[2], plane[2], dx[2];
   int preds;
 };
 constexpr std::array<ReachStep, 24> MakeReachSteps() {
@@ -46,96 +98,105 @@ constexpr std::array<ReachStep, 24> MakeReachSteps() {
         s.index = (dy + 2) * 5 + dx + 2;
         s.bit = s.index < 12 ? s.index : s.index - 1;
         s.forward = dy >= 0;
-        if (dx != 0) {
+        if (dx != 0) {  // from (dx - sx, dy): its right relation (sx = 1) or left (sx = -1)
           const int sx = dx > 0 ? 1 : -1;
           s.pred[s.preds] = (dy + 2) * 5 + (dx - sx + 2);
-          s.side[s.preds++] = sx > 0 ? 1 : 3;
+          s.row[s.preds] = dy + 2, s.plane[s.preds] = sx > 0 ? 0 : 1, s.dx[s.preds] = dx - sx;
+          ++s.preds;
         }
-        if (dy != 0) {
+        if (dy != 0) {  // from (dx, dy - sy): row dy's down relation (sy = 1), row dy + 1's up
           const int sy = dy > 0 ? 1 : -1;
           s.pred[s.preds] = (dy - sy + 2) * 5 + dx + 2;
-          s.side[s.preds++] = sy > 0 ? 2 : 0;
+          s.row[s.preds] = sy > 0 ? dy + 2 : dy + 3, s.plane[s.preds] = sy > 0 ? 2 : 3, s.dx[s.preds] = dx;
+          ++s.preds;
         }
         steps[size_t(n++)] = s;
       }
   return steps;
 }
 
-// Relation a->d from a->b (m) and b->d (s): row a of the result is the OR of the rows b of s
-// that m(a, b) selects.
-template <class V>
-HWY_INLINE V Chain(V m, V s) {
-  const hn::DFromV<V> d;
-  const V one = hn::Set(d, 1u), three = hn::Set(d, 3u);
-  const V s0 = hn::And(s, three), s1 = hn::And(hn::ShiftRight<2>(s), three);
-  auto pick = [&](int shift) { return hn::Sub(hn::Zero(d), hn::And(hn::ShiftRightSame(m, shift), one)); };
-  const V row0 = hn::Or(hn::And(pick(0), s0), hn::And(pick(1), s1));
-  const V row1 = hn::Or(hn::And(pick(2), s0), hn::And(pick(3), s1));
-  return hn::Or(row0, hn::ShiftLeft<2>(row1));
+// t: the relation bits that survive the state (bit 2a + b: region a reached, reaches b).
+// The next state X (0b0011 the primary reached, 0b1100 the secondary), and the result bit
+// j of a mask byte (the primary reached).
+struct StepTables {
+  alignas(16) uint8_t next[16];
+  alignas(16) uint8_t bit[8][16];
+};
+constexpr StepTables MakeStepTables() {
+  StepTables t{};
+  for (int i = 0; i < 16; ++i) {
+    const bool primary = (i & 1) || (i & 4), secondary = (i & 2) || (i & 8);
+    t.next[i] = uint8_t((primary ? 3 : 0) | (secondary ? 12 : 0));
+    for (int j = 0; j < 8; ++j) t.bit[j][i] = primary ? uint8_t(1 << j) : 0;
+  }
+  return t;
 }
 
-// Lanes x .. x + N - 1; out has N entries. kForward: only the forward steps, the offsets
-// towards the two rows above from those rows' masks by symmetry (bit (dx, dy) of pixel p is
-// bit (-dx, -dy) of pixel p + (dx, dy)).
-template <bool kForward, class DU>
-HWY_INLINE void ReachLanes(DU du, const ReachRow& row, int x, uint32_t* out) {
-  using V = hn::Vec<DU>;
+// Pixels x .. x + N - 1 (N byte lanes); out (and cache, unless null) has N entries, types
+// too. kForward: only the forward steps,
+// the offsets towards the two rows above from those rows' masks by symmetry (bit (dx, dy) of
+// pixel p is bit (-dx, -dy) of pixel p + (dx, dy)).
+template <bool kForward, class D8>
+HWY_INLINE void ReachLanes(D8 d8, const ReachRow& row, int x, const uint8_t* types, uint32_t* out, uint32_t* cache) {
+  using V = hn::Vec<D8>;
   static constexpr std::array<ReachStep, 24> kSteps = MakeReachSteps();
-  V words[25];
-  V any = hn::Zero(du);
-  for (int dy = 0; dy < 5; ++dy)
-    for (int dx = 0; dx < 5; ++dx) {
-      words[dy * 5 + dx] = hn::LoadU(du, row.sides[dy] + kPad + x + dx - 2);
-      any = hn::Or(any, words[dy * 5 + dx]);
-    }
-  if (hn::AllTrue(du, hn::Eq(hn::And(any, hn::Set(du, kSideNonEmpty)), hn::Zero(du)))) {
-    hn::StoreU(hn::Set(du, 0xffffffu), du, out);  // only empty pixels: everything reachable
-    return;
-  }
-  const V three = hn::Set(du, 3u), fifteen = hn::Set(du, 15u), seven = hn::Set(du, 7u);
-  const V rel_lo = hn::Set(du, row.relation_lo), rel_hi = hn::Set(du, row.relation_hi);
-  // The neighbour relation for descriptors (from, to): entry 4 from + to of the 16 4-bit entries.
-  auto relation = [&](V from, V to) {
-    const V index = hn::Or(hn::ShiftLeft<2>(from), to);
-    const V table = hn::IfThenElse(hn::Eq(hn::And(index, hn::Set(du, 8u)), hn::Zero(du)), rel_lo, rel_hi);
-    return hn::And(hn::Shr(table, hn::ShiftLeft<2>(hn::And(index, seven))), fifteen);
-  };
-  V masks[25];
-  V result = hn::Zero(du);
-  if (kForward)
-    for (int dy = -2; dy <= -1; ++dy)
-      for (int dx = -2; dx <= 2; ++dx) {
-        const V above = hn::LoadU(du, row.above[-dy - 1] + x + dx);
-        const int from = (2 - dy) * 5 + 2 - dx, to = (dy + 2) * 5 + dx + 2;  // bits of (-dx, -dy), (dx, dy)
-        result = hn::Or(result, hn::ShiftLeftSame(hn::And(hn::ShiftRightSame(above, from - 1), hn::Set(du, 1u)), to));
-      }
+  static constexpr StepTables kTables = MakeStepTables();
+  const Table16<D8> next(d8, kTables.next);
+  V state[25];
+  state[12] = hn::Set(d8, 3);  // the centre's primary
+  V bytes[3] = {hn::Zero(d8), hn::Zero(d8), hn::Zero(d8)};
   for (const ReachStep& s : kSteps) {
     if (kForward && !s.forward) continue;
-    V m = hn::Zero(du);
+    V t = hn::Zero(d8);
     for (int i = 0; i < s.preds; ++i) {
-      const int p = s.pred[i], side = s.side[i];
-      const V from = hn::And(hn::ShiftRightSame(words[p], 2 * side), three);
-      const V to = hn::And(hn::ShiftRightSame(words[s.index], 2 * ((side + 2) & 3)), three);
-      const V blocked = hn::And(hn::Or(words[p], words[s.index]), hn::Set(du, kSideBlocked));
-      const V rel = hn::IfThenZeroElse(hn::Ne(blocked, hn::Zero(du)), relation(from, to));
-      m = hn::Or(m, p == 12 ? rel : Chain(masks[p], rel));
+      const uint8_t* rel = row.relations[s.row[i]] + size_t(s.plane[i]) * row.plane + x + s.dx[i];
+      t = hn::Or(t, hn::And(hn::LoadU(d8, rel), state[s.pred[i]]));
     }
-    masks[s.index] = m;
-    result = hn::Or(result, hn::ShiftLeftSame(hn::And(m, hn::Set(du, 1u)), s.bit));
+    state[s.index] = next(d8, t);
+    bytes[s.bit >> 3] = hn::Or(bytes[s.bit >> 3], Table16<D8>(d8, kTables.bit[s.bit & 7])(d8, t));
   }
-  hn::StoreU(result, du, out);
+  // Bytes to 32-bit masks, a quarter vector at a time.
+  const size_t n = hn::Lanes(d8);
+  HWY_ALIGN uint8_t b[3][HWY_LANES(uint8_t)];
+  for (int k = 0; k < 3; ++k) hn::Store(bytes[k], d8, b[k]);
+  const hn::Repartition<uint32_t, D8> du;
+  const hn::Rebind<uint8_t, decltype(du)> dq;
+  const size_t nu = hn::Lanes(du);
+  for (size_t i = 0; i < n; i += nu) {
+    auto result = hn::Or(hn::PromoteTo(du, hn::LoadU(dq, b[0] + i)),
+                         hn::Or(hn::ShiftLeft<8>(hn::PromoteTo(du, hn::LoadU(dq, b[1] + i))),
+                                hn::ShiftLeft<16>(hn::PromoteTo(du, hn::LoadU(dq, b[2] + i)))));
+    if (kForward)
+      for (int dy = -2; dy <= -1; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const auto above = hn::LoadU(du, row.above[-dy - 1] + x + int(i) + dx);
+          const int from = (2 - dy) * 5 + 2 - dx, to = (dy + 2) * 5 + dx + 2;  // bits of (-dx, -dy), (dx, dy)
+          result = hn::Or(result, hn::ShiftLeftSame(hn::And(hn::ShiftRightSame(above, from - 1), hn::Set(du, 1u)), to));
+        }
+    hn::StoreU(result, du, out + i);
+    if (cache) {
+      const auto type = hn::PromoteTo(du, hn::LoadU(dq, types + i));
+      hn::StoreU(hn::Or(result, hn::ShiftLeft<24>(type)), du, cache + i);
+    }
+  }
 }
 
 template <bool kForward>
 void ReachRowLanes(const ReachRow& row) {
-  const hn::ScalableTag<uint32_t> du;
-  const int n = int(hn::Lanes(du));
+  const hn::ScalableTag<uint8_t> d8;
+  const int n = int(hn::Lanes(d8));
   int x = 0;
-  for (; x + n <= row.width; x += n) ReachLanes<kForward>(du, row, x, row.reach + x);
+  for (; x + n <= row.width; x += n)
+    ReachLanes<kForward>(d8, row, x, row.types + x, row.reach + x, row.cache ? row.cache + x : nullptr);
   if (x == row.width) return;
-  HWY_ALIGN uint32_t last[HWY_LANES(uint32_t)];
-  ReachLanes<kForward>(du, row, x, last);  // the padded rows hold "outside" beyond the row
-  std::memcpy(row.reach + x, last, size_t(row.width - x) * sizeof(uint32_t));
+  constexpr int kMax = HWY_LANES(uint8_t);
+  HWY_ALIGN uint32_t reach[kMax], cache[kMax];
+  HWY_ALIGN uint8_t types[kMax] = {};
+  const size_t rest = size_t(row.width - x);
+  std::memcpy(types, row.types + x, rest);
+  ReachLanes<kForward>(d8, row, x, types, reach, cache);  // the relation rows hold zeros beyond the row
+  std::memcpy(row.reach + x, reach, rest * sizeof(uint32_t));
+  if (row.cache) std::memcpy(row.cache + x, cache, rest * sizeof(uint32_t));
 }
 
 inline void ReachRowKernel(const ReachRow& row) {

@@ -21,7 +21,7 @@ namespace epi::simd {
 namespace HWY_NAMESPACE {
 
 const RowKernels* KernelTable() {
-  static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel, &ReachRowKernel, &ClassifyRowKernel,
+  static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel, &ReachRowKernel, &RelationRowKernel, &ClassifyRowKernel,
                                 &AntialiasRowKernel, &DecodeRowKernel, &FillRowKernel, &RenderCacheRowKernel};
   return &table;
 }

@@ -4,10 +4,10 @@
 // tests/simd runs every compiled target against it. docs/epi.md, "SIMD kernels".
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
-#include "epi/tables.h"  // kSideBlocked, kSideNonEmpty (header only: simd links no core/epi code)
 
 namespace epi::simd {
 
@@ -27,32 +27,57 @@ struct InterpolateRow {
   const uint8_t* types;
   const uint32_t* reach;
   const uint32_t* color;
-  // Outputs, width each: colours (3 floats per pixel), total weight (0: nothing reached; the
-  // colour and priority are then the caller's: the oracle's fallback), priority.
+  // Outputs, width each: colours (3 floats per pixel), found (1: some sample reached, else 0:
+  // the colour and priority are then the caller's, the oracle's fallback), priority.
   float* rgb;
-  float* total;
+  uint8_t* found;
   float* priority;
 };
 
-// One row of reachability (reachability.h: the 24-bit primary-to-primary masks of the 5x5)
-// over padded rows of side words, row k = image row y - 2 + k, pixel x at x + kPad: bits 2s-2s+1
-// the descriptor of what the pixel shows on its side s (0 top, 1 right, 2 bottom, 3 left; 0 the
-// primary region whole, 1 the secondary whole, 2 the primary before the crossing and the
-// secondary after, 3 the reverse), kSideBlocked for complex pixels and pixels outside the image
-// (padding, rows outside), kSideNonEmpty for every pixel but an empty one (epi/tables.h,
-// SideDescriptors, builds them).
-struct ReachRow {
-  int width;
-  const uint32_t* sides[5];
-  // The neighbour relation of descriptors (a, b), 4 bits at 4 (4a + b): entries 0-7 in lo, 8-15 in hi.
-  uint32_t relation_lo, relation_hi;
-  uint32_t* reach;  // out, width masks
-  // The masks of rows y - 1 and y - 2, padded like the side words (zeros outside the image), or
-  // nullptr: then all 24 offsets are computed, else the 14 forward ones and the other 10 from
-  // these rows by symmetry (docs/epi.md, "Reachability reused across rows").
-  const uint32_t* above[2];
+// What a pixel type shows on each side, for the neighbour relation of two adjacent pixels
+// (epi/tables.h, SideDescriptors: its primary region along the whole side, its secondary, or
+// both split at the crossing): by type, from[s] = 4 x the descriptor of side s (0 top, 1 right,
+// 2 bottom, 3 left) and to[s] = the descriptor, both 0x80 for a blocked side (complex pixels;
+// outside the image); relation[4a + b]: the relation of descriptors a and b facing each other
+// (bit 2a' + b': region a' of the first pixel reaches region b' of the second; 0 primary, 1
+// secondary). relation[from | to] is then the relation of two pixels, 0 if either is blocked.
+struct RelationTables {
+  alignas(16) uint8_t from[4][16];
+  alignas(16) uint8_t to[4][16];
+  alignas(16) uint8_t relation[16];
 };
 
+// The neighbour relations of one row r, computed once per row and read by the reachability of
+// the five rows whose 5x5 window holds row r (docs/epi.md, "Reachability reused across rows"):
+// 4 bits per pixel (RelationTables.relation), in four byte planes of `plane` bytes each,
+// pixel x at out[x]: right (x -> x + 1), left (x -> x - 1), down ((x, r - 1) -> (x, r)), up
+// ((x, r) -> (x, r - 1)). Types are padded rows (pixel x at x + kPad, kPad before and at least
+// 64 after of kTypeComplex, which is blocked: rows outside the image are all of it), `above`
+// row r - 1. The kernel writes whole vectors, into the planes' padding too: zeros there.
+struct RelationRow {
+  int width;
+  const uint8_t* above;
+  const uint8_t* types;
+  const RelationTables* tables;
+  uint8_t* out;  // the right plane; left, down, up follow at `plane` bytes each
+  size_t plane;
+};
+// One row y of reachability (reachability.h: the 24-bit primary-to-primary masks of the 5x5)
+// from the relation rows of rows y - 2 .. y + 2 (RelationRow; relations[k] the right plane of
+// row y - 2 + k, at least kPad + 1 bytes of zeros before pixel 0 and 66 after the row).
+struct ReachRow {
+  int width;
+  const uint8_t* relations[5];
+  size_t plane;
+  uint32_t* reach;  // out, width masks
+  // nullptr, or out: the cache words of the row (epi_pixel.h: type << 24 | reach mask), from `types`.
+  uint32_t* cache;
+  const uint8_t* types;
+  // The masks of rows y - 1 and y - 2 (pixel x at above[k][x], kPad zeros before, zeros after),
+  // or nullptr: then all 24 offsets are computed, else the 14 forward ones and the other 10
+  // from these rows by symmetry (docs/epi.md, "Reachability reused across rows").
+  const uint32_t* above[2];
+};
 // One row y of classification (classify.h: classify_pixel for each pixel). Boundary mask rows
 // (rasterize.h, width + 1 bytes each): `top` the tops of row y, `bottom` the tops of row y + 1,
 // `left` the left sides of row y (pixel x's right side is left[x + 1]).
@@ -82,17 +107,14 @@ struct AntialiasRow {
 };
 
 // One classified row decoded for the other kernels: colours to linear light through `lut`
-// (the 256-entry sRGB table), usable and sampled flags as 1 or 0, side words by type. Outputs
+// (the 256-entry sRGB table), usable and sampled flags as 1 or 0. Outputs
 // start at pixel 0 of the padded planes (width entries written, padding untouched).
 struct DecodeRow {
   int width;
   const uint16_t* edge;
-  const uint8_t* types;
   const uint32_t* color;
   const float* lut;
-  const uint32_t* side_words;  // 16 entries, by type
   float *red, *green, *blue, *usable, *sampled;
-  uint32_t* sides;
 };
 
 // One row of the fill step (fill.h) over padded rows of interpolated colours (3 floats per
@@ -112,13 +134,14 @@ struct RowKernels {
   int64_t target;  // the HWY_* bit
   void (*interpolate)(const InterpolateRow& row);
   void (*reachability)(const ReachRow& row);
+  void (*relations)(const RelationRow& row);
   void (*classify)(ClassifyRow& row);
   void (*antialias)(const AntialiasRow& row);
   void (*decode)(const DecodeRow& row);
   void (*fill)(const FillRow& row);
   // The render cache's filter (rendercache.h) over the same rows as interpolation: the 3x3 of
   // the sampled flags and colours (rows 1-3), the own sample words (age); `usable` and `reach`
-  // are not read. Outputs as interpolation's (total 0: the caller's fallback).
+  // are not read. Outputs as interpolation's (found 0: the caller's fallback).
   void (*rendercache)(const InterpolateRow& row);
 };
 

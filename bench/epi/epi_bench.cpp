@@ -8,14 +8,19 @@
 // and the AoS/SoA layout decision. bench/perf_tables.py turns the JSON into docs/performance.md.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <memory>
 #include <random>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <tuple>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -259,14 +264,17 @@ void BM_Reconstruct(benchmark::State& state) {
 }
 
 // What reachability reused across rows saves: the reachability stage of the staged schedule
-// (chunks of 8 rows: 6 of 8 rows take the upper half by symmetry) with the best target, one
-// thread, with and without the reuse (arg 2), few edges.
+// (chunks of 8 rows) with the best target, one thread, few edges; arg 2: 0 nothing reused (the
+// five relation rows of the window computed for every row, all 24 offsets), 1 the relation
+// rows computed once per row and kept for the five rows that read them, 2 as 1 and the
+// offsets towards the two rows above from those rows' masks (symmetry: 6 of 8 rows).
 void BM_ReachReuse(benchmark::State& state) {
   Frame& f = frame(int(state.range(0)), int(state.range(1)));
   Reconstructor reconstructor;
   Reconstruction r;
   ReconstructTimes times;
-  const Schedule schedule{64, 1, state.range(2) != 0};
+  const int reuse = int(state.range(2));
+  const Schedule schedule{64, 1, reuse >= 2, reuse >= 1};
   double wall = 0, cpu = 0;
   for (auto _ : state) {
     reconstructor.staged(f.epi, f.masks, {}, r, times, schedule);
@@ -276,7 +284,8 @@ void BM_ReachReuse(benchmark::State& state) {
   if (!same_result(r, f.oracle)) return state.SkipWithError("the result differs from the oracle");
   state.counters["reachability_ms"] = wall / double(state.iterations());
   state.counters["reachability_cpu_ms"] = cpu / double(state.iterations());
-  state.SetLabel(std::string(reconstructor.kernel_name()) + (schedule.reach_symmetry ? " symmetry" : " all 24"));
+  state.SetLabel(std::string(reconstructor.kernel_name()) +
+                 (reuse == 0 ? " nothing reused" : reuse == 1 ? " relation rows" : " relation rows + symmetry"));
 }
 
 // The band height of the schedule, 1920x1080, 2 threads.
@@ -348,9 +357,14 @@ void BM_LayoutSoA(benchmark::State& state) {
   });
 }
 
+// Thread counts of the two-and-more-thread rows: 1 and 2 unless --threads=LIST (main).
+std::vector<int> g_threads = {1, 2};
+
 void Sizes(benchmark::internal::Benchmark* b) {
-  for (auto [w, h] : {std::pair{512, 512}, {1920, 1080}})
-    for (int threads : {0, 1, 2}) b->Args({w, h, threads});
+  for (auto [w, h] : {std::pair{512, 512}, {1920, 1080}}) {
+    b->Args({w, h, 0});
+    for (int threads : g_threads) b->Args({w, h, threads});
+  }
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 void SizesSerial(benchmark::internal::Benchmark* b) {
@@ -363,12 +377,12 @@ void FilterArgs(benchmark::internal::Benchmark* b) {
   for (auto [w, h] : kFilterSizes)
     for (int edges : {0, 1})
       for (int k = 0; k < kernels; ++k)
-        for (int threads : {1, 2}) b->Args({w, h, k, threads, edges});
+        for (int threads : g_threads) b->Args({w, h, k, threads, edges});
   b->Unit(benchmark::kMillisecond)->UseManualTime();
 }
 // The oracle schedule, and the tiled stream with the best and the scalar target, on 1 and 2
-// threads; the best target also on 4, 8, 16... up to the machine's cores (docs/performance.md,
-// "Scaling past two cores").
+// threads (--threads); the best target also on 4, 8, 16... up to the machine's cores
+// (docs/performance.md, "Scaling past two cores").
 void ReconstructArgs(benchmark::internal::Benchmark* b) {
   const int scalar = int(simd::compiled_targets().size());
   const int cores = int(std::thread::hardware_concurrency());
@@ -376,8 +390,9 @@ void ReconstructArgs(benchmark::internal::Benchmark* b) {
     for (int edges : {0, 1}) {
       b->Args({w, h, 0, 1, edges});
       for (int k : {1, scalar})
-        for (int threads : {1, 2}) b->Args({w, h, k, threads, edges});
-      for (int threads = 4; threads <= cores; threads *= 2) b->Args({w, h, 1, threads, edges});
+        for (int threads : g_threads) b->Args({w, h, k, threads, edges});
+      for (int threads = 4; threads <= cores; threads *= 2)
+        if (std::find(g_threads.begin(), g_threads.end(), threads) == g_threads.end()) b->Args({w, h, 1, threads, edges});
     }
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
@@ -386,22 +401,58 @@ void SizesAll(benchmark::internal::Benchmark* b) {
   b->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 
-BENCHMARK(BM_StreamingFloor)->Apply(SizesAll);
-BENCHMARK(BM_Rasterize)->Apply(Sizes);
-BENCHMARK(BM_Filters)->Apply(FilterArgs);
-BENCHMARK(BM_Reconstruct)->Apply(ReconstructArgs);
-BENCHMARK(BM_RenderCacheFilter)->Apply([](benchmark::internal::Benchmark* b) {
-  for (auto [w, h] : kFilterSizes)
-    for (int k = 0; k <= int(simd::compiled_targets().size()); ++k) b->Args({w, h, k});
-  b->Unit(benchmark::kMillisecond)->UseManualTime();
-});
-BENCHMARK(BM_ReachReuse)->Args({1920, 1080, 0})->Args({1920, 1080, 1})->Args({3840, 2160, 0})->Args({3840, 2160, 1})
-    ->Unit(benchmark::kMillisecond)->UseManualTime();
-BENCHMARK(BM_ReconstructBandRows)->Arg(4)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_LayoutAoS)->Apply(SizesSerial);
-BENCHMARK(BM_LayoutSoA)->Apply(SizesSerial);
+void register_benchmarks() {
+  benchmark::RegisterBenchmark("BM_StreamingFloor", BM_StreamingFloor)->Apply(SizesAll);
+  benchmark::RegisterBenchmark("BM_Rasterize", BM_Rasterize)->Apply(Sizes);
+  benchmark::RegisterBenchmark("BM_Filters", BM_Filters)->Apply(FilterArgs);
+  benchmark::RegisterBenchmark("BM_Reconstruct", BM_Reconstruct)->Apply(ReconstructArgs);
+  benchmark::RegisterBenchmark("BM_RenderCacheFilter", BM_RenderCacheFilter)->Apply([](benchmark::internal::Benchmark* b) {
+    for (auto [w, h] : kFilterSizes)
+      for (int k = 0; k <= int(simd::compiled_targets().size()); ++k) b->Args({w, h, k});
+    b->Unit(benchmark::kMillisecond)->UseManualTime();
+  });
+  auto* reuse = benchmark::RegisterBenchmark("BM_ReachReuse", BM_ReachReuse);
+  for (auto [w, h] : {std::pair{1920, 1080}, {3840, 2160}})
+    for (int level : {0, 1, 2}) reuse->Args({w, h, level});
+  reuse->Unit(benchmark::kMillisecond)->UseManualTime();
+  auto* band_rows = benchmark::RegisterBenchmark("BM_ReconstructBandRows", BM_ReconstructBandRows);
+  for (int rows : {4, 8, 16, 32, 64, 128}) band_rows->Arg(rows);
+  band_rows->Unit(benchmark::kMillisecond)->UseRealTime();
+  benchmark::RegisterBenchmark("BM_LayoutAoS", BM_LayoutAoS)->Apply(SizesSerial);
+  benchmark::RegisterBenchmark("BM_LayoutSoA", BM_LayoutSoA)->Apply(SizesSerial);
+}
 
 }  // namespace
 }  // namespace epi
 
-BENCHMARK_MAIN();
+// Google Benchmark's flags, plus --threads=LIST (comma-separated thread counts of the
+// parallel rows, default 1,2: e.g. --threads=1,2,4,8,16 on a larger machine).
+int main(int argc, char** argv) {
+  std::vector<char*> args;
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg.rfind("--threads=", 0) != 0) {
+      args.push_back(argv[i]);
+      continue;
+    }
+    epi::g_threads.clear();
+    std::stringstream list(arg.substr(10));
+    for (std::string item; std::getline(list, item, ',');) {
+      char* end = nullptr;
+      const long n = std::strtol(item.c_str(), &end, 10);
+      if (item.empty() || *end != '\0' || n < 1 || n > 1024) {
+        std::fprintf(stderr, "epi_bench: --threads wants positive thread counts separated by commas, got '%s'\n",
+                     arg.c_str());
+        return 2;
+      }
+      epi::g_threads.push_back(int(n));
+    }
+  }
+  int count = int(args.size());
+  benchmark::Initialize(&count, args.data());
+  if (benchmark::ReportUnrecognizedArguments(count, args.data())) return 1;
+  epi::register_benchmarks();
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -5,8 +5,12 @@
 // turn, each stage timed: projection, depth cull, occlusion test (epi mode, with the warm-up's
 // last edge mask) and EPI fill. Medians over the frames; manual time = the fast path's total.
 //   render_points_bench --benchmark_format=json > points.json; python3 bench/render/points_table.py points.json
+// Against an earlier build (the same frames; run the two binaries one after the other):
+//   python3 bench/render/points_table.py --baseline before.json after.json
+// EPI_POINTS_FAST_ONLY=1 skips the reference path (profiling the fast path: perf record).
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <ctime>
 #include <map>
 #include <memory>
@@ -82,12 +86,13 @@ void BM_Points(benchmark::State& state) {
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
   };
+  const bool fast_only = std::getenv("EPI_POINTS_FAST_ONLY") != nullptr;  // for profiling: no reference frames
   int frame = kWarmFrames;
   for (auto _ : state) {
     View view;
     view.camera = w.path.camera_at(frame++ % kPathFrames), view.width = width, view.height = height;
     const ViewFrame vf(view);
-    for (int r = 0; r < 2; ++r) {  // the reference first, then the fast path, on the same frame
+    for (int r = fast_only ? 1 : 0; r < 2; ++r) {  // the reference first, then the fast path, on the same frame
       PointCache& cache = r == 0 ? reference : fast;
       double t = now_ms();
       auto lap = [&](int stage) {

@@ -67,7 +67,23 @@ struct RowPlane {
 size_t samples_plane(int w) { return size_t(w) + 2 * simd::kPad + 64; }
 size_t samples_stride(int w) { return 5 * samples_plane(w); }
 
-constexpr uint32_t kOutsideSides = kSideBlocked | kSideNonEmpty;
+// The side codes and descriptor relation (simd::RelationTables) from the side descriptors.
+const simd::RelationTables& relation_tables() {
+  static const simd::RelationTables tables = [] {
+    const SideDescriptors& d = side_descriptors();
+    simd::RelationTables t{};
+    for (int type = 0; type < 16; ++type)
+      for (int side = 0; side < 4; ++side) {
+        const bool blocked = d.word[type] & kSideBlocked;
+        const uint8_t descriptor = uint8_t((d.word[type] >> (2 * side)) & 3);
+        t.from[side][type] = blocked ? 0x80 : uint8_t(4 * descriptor);
+        t.to[side][type] = blocked ? 0x80 : descriptor;
+      }
+    for (int i = 0; i < 16; ++i) t.relation[i] = uint8_t(((i < 8 ? d.relation_lo : d.relation_hi) >> (4 * (i & 7))) & 15);
+    return t;
+  }();
+  return tables;
+}
 
 // The tables the vector kernels gather from, widened to 32 bits.
 struct WideTables {
@@ -89,7 +105,7 @@ struct PlaneStore {
   std::vector<uint8_t> types, found;
   std::vector<uint32_t> reach;
   std::vector<float> interp, filled, samples, zero_samples;
-  std::vector<uint32_t> sides, outside_sides;
+  std::vector<uint8_t> padded_types, outside_types;
   int width = -1, rows_of_class = 0, rows_of_reach = 0, rows_of_interp = 0, rows_of_filled = 0;
   void resize(int w, int class_rows, int reach_rows, int interp_rows, int filled_rows) {
     if (w == width && class_rows == rows_of_class && reach_rows == rows_of_reach && interp_rows == rows_of_interp &&
@@ -103,9 +119,9 @@ struct PlaneStore {
     found.assign(samples_plane(w) * size_t(interp_rows), 0), interp.assign(3 * samples_plane(w) * size_t(interp_rows), 0.0f);
     filled.assign(3 * n * size_t(filled_rows), 0.0f);
     samples.assign(samples_stride(w) * size_t(class_rows), 0.0f), zero_samples.assign(samples_stride(w), 0.0f);
-    // Pads and rows outside the image read as outside (blocked); decoding writes only the pixels.
-    sides.assign(samples_plane(w) * size_t(class_rows), kOutsideSides);
-    outside_sides.assign(samples_plane(w), kOutsideSides);
+    // Pads and rows outside the image read as complex (blocked); decoding writes only the pixels.
+    padded_types.assign(samples_plane(w) * size_t(class_rows), uint8_t(kTypeComplex));
+    outside_types.assign(samples_plane(w), uint8_t(kTypeComplex));
   }
 };
 
@@ -121,17 +137,21 @@ struct RowJob {
   RowPlane<uint8_t> types, found;
   RowPlane<uint32_t> reach;
   RowPlane<float> interp, filled, image, samples;
-  RowPlane<uint32_t> sides;
+  RowPlane<uint8_t> padded_types;  // types with kPad pixels on the left (simd::RelationRow)
   // Rows written to `out` (edge words, cache words, priority; the image rows are the only ones
   // the output stages compute); other rows are halo, recomputed by the neighbouring band.
   int own_first, own_last;
   ClassCounts* counts;            // of owned rows
   float* priority_scratch;        // priority of halo rows (discarded), width floats
-  float* total_scratch;           // width floats (the interpolation kernel's weights)
   const float* zero_samples;      // a decoded row of zeros (rows outside the image)
-  const uint32_t* outside_sides;  // a row of side words outside the image
+  const uint8_t* outside_types;   // a padded types row outside the image
   int stage_first = 0;            // first row of this stage in the current run (reach reuse)
   bool reuse_reach = false;       // reach may take the rows above by symmetry (not in the oracle)
+  bool reuse_relations = true;    // relation rows kept from the rows before (update_relations)
+  // The neighbour relations of the rows the reachability kernel reads (simd::RelationRow), a
+  // ring of kRelationRows rows of four planes; rows below relations_next are computed (this run).
+  uint8_t* relations = nullptr;
+  int relations_next = -1;
 
   bool owned(int y) const { return y >= own_first && y <= own_last; }
   bool inside(int y) const { return y >= 0 && y < height; }
@@ -165,9 +185,30 @@ void decode_stage(RowJob& j, int y) {
   if (!j.kernels) return;  // both filters' vector kernels read the decoded rows
   const size_t plane = samples_plane(j.width);
   float* red = j.samples.row(y) + simd::kPad;
-  j.kernels->decode({j.width, j.edge.row(y), j.types.row(y), &j.in.color[size_t(y) * size_t(j.width)],
-                     epi_color8_to_linear().data(), side_descriptors().word, red, red + plane, red + 2 * plane, red + 3 * plane,
-                     red + 4 * plane, j.sides.row(y) + simd::kPad});
+  j.kernels->decode({j.width, j.edge.row(y), &j.in.color[size_t(y) * size_t(j.width)], epi_color8_to_linear().data(), red,
+                     red + plane, red + 2 * plane, red + 3 * plane, red + 4 * plane});
+  std::memcpy(j.padded_types.row(y) + simd::kPad, j.types.row(y), size_t(j.width));
+}
+
+// Relation rows (simd::RelationRow): four planes of samples_plane bytes, pixel 0 at kPad.
+constexpr int kRelationRows = 8;
+size_t relations_stride(int w) { return 4 * samples_plane(w); }
+uint8_t* relation_row(const RowJob& j, int r) {
+  return j.relations + size_t(r & (kRelationRows - 1)) * relations_stride(j.width) + simd::kPad;
+}
+
+// Computes the relation rows y - 2 .. y + 2 not yet computed in this run: one row per call
+// while the rows run consecutively (each row's relations serve five rows of reachability).
+void update_relations(RowJob& j, int y) {
+  const bool consecutive = j.reuse_relations && j.relations_next == y + 2;
+  for (int r = consecutive ? y + 2 : y - 2; r <= y + 2; ++r) {
+    // Row y - 2's relations towards the row above are never read: computed as "outside".
+    const bool above_read = r > y - 2 && j.inside(r - 1);
+    j.kernels->relations({j.width, above_read ? j.padded_types.row(r - 1) : j.outside_types,
+                          j.inside(r) ? j.padded_types.row(r) : j.outside_types, &relation_tables(),
+                          relation_row(j, r), samples_plane(j.width)});
+  }
+  j.relations_next = y + 3;
 }
 
 void reachability_stage(RowJob& j, int y) {
@@ -176,11 +217,13 @@ void reachability_stage(RowJob& j, int y) {
   if (j.settings.filter != Filter::epi) {
     std::memset(reach, 0, size_t(j.width) * sizeof(uint32_t));  // the render cache has no reachability
   } else if (j.kernels) {
-    const SideDescriptors& tables = side_descriptors();
-    simd::ReachRow row{j.width, {}, tables.relation_lo, tables.relation_hi, reach, {}};
-    for (int k = 0; k < 5; ++k) row.sides[k] = j.inside(y - 2 + k) ? j.sides.row(y - 2 + k) : j.outside_sides;
+    update_relations(j, y);
+    uint32_t* cache = j.owned(y) ? &j.out.cache[size_t(y) * size_t(j.width)] : nullptr;
+    simd::ReachRow row{j.width, {}, samples_plane(j.width), reach, cache, j.types.row(y), {}};
+    for (int k = 0; k < 5; ++k) row.relations[k] = relation_row(j, y - 2 + k);
     if (j.reuse_reach && y - 2 >= j.stage_first) row.above[0] = j.reach.row(y - 1), row.above[1] = j.reach.row(y - 2);
-    j.kernels->reachability(row);
+    j.kernels->reachability(row);  // the cache words too
+    return;
   } else {
     for (int x = 0; x < j.width; ++x) reach[x] = reach_full(types, x, y);
   }
@@ -210,25 +253,22 @@ void interpolate_stage(RowJob& j, int y) {
   }
   row.width = j.width, row.types = j.types.row(y), row.reach = reach;
   row.color = &j.in.color[size_t(y) * size_t(j.width)];
-  row.rgb = colors, row.total = j.total_scratch, row.priority = priority;
-  if (j.settings.filter == Filter::rendercache) {
-    j.kernels->rendercache(row);
-    for (int x = 0; x < j.width; ++x) {  // no sample in the 3x3: the oracle's 7x7 prefilter
-      found[x] = 1;
-      if (j.total_scratch[x] == 0) {
-        window_average(rows, x, y, 3, colors + 3 * x);
-        priority[x] = kMaxPriority;
-      }
-    }
-    return;
-  }
-  j.kernels->interpolate(row);
-  for (int x = 0; x < j.width; ++x) {  // pixels that reached nothing: the oracle's fallback
-    found[x] = j.total_scratch[x] > 0;
-    if (!found[x]) {
+  row.rgb = colors, row.found = found, row.priority = priority;
+  const bool rendercache = j.settings.filter == Filter::rendercache;
+  if (rendercache) j.kernels->rendercache(row);
+  else j.kernels->interpolate(row);
+  // Pixels that reached nothing (found 0; few): the oracle's fallback, or the render cache's
+  // 7x7 prefilter where its 3x3 holds no sample.
+  for (auto* p = static_cast<uint8_t*>(std::memchr(found, 0, size_t(j.width))); p;
+       p = static_cast<uint8_t*>(std::memchr(p + 1, 0, size_t(found + j.width - p - 1)))) {
+    const int x = int(p - found);
+    if (rendercache) {
+      window_average(rows, x, y, 3, colors + 3 * x);
+      *p = 1;
+    } else {
       fallback_color(rows, x, y, colors + 3 * x);
-      priority[x] = kMaxPriority;
     }
+    priority[x] = kMaxPriority;
   }
 }
 
@@ -282,9 +322,14 @@ void complex_stage(RowJob& j, int y) {
   const uint8_t* types = j.types.row(y);
   const float* filled = j.filled.row(y);
   float* out = j.image.row(y);
-  for (int x = 0; x < j.width; ++x)
-    if (output_filter(j.settings, j.masks.centre_lines, types[x]) == OutputFilter::complex_filter)
-      complex_pixel(epi, j.masks, x, y, filled + 3 * x, out + 3 * x);
+  // Complex pixels are few (0.3-3 %): found by memchr, not by a test per pixel.
+  static_assert(output_filter({}, true, kTypeComplex) == OutputFilter::complex_filter);
+  const size_t w = size_t(j.width);
+  for (auto* p = static_cast<const uint8_t*>(std::memchr(types, kTypeComplex, w)); p;
+       p = static_cast<const uint8_t*>(std::memchr(p + 1, kTypeComplex, w - size_t(p + 1 - types)))) {
+    const int x = int(p - types);
+    complex_pixel(epi, j.masks, x, y, filled + 3 * x, out + 3 * x);
+  }
 }
 
 // The row kernel of each stage, in the order of kStages.
@@ -296,11 +341,13 @@ void run_stage_row(Stage s, RowJob& j, int y) { kStageRows[size_t(s)](j, y); }
 // Rings of one thread (reused across its bands and calls).
 struct ThreadScratch {
   PlaneStore rings;
-  std::vector<float> priority, total;
+  std::vector<float> priority;
+  std::vector<uint8_t> relations;
   void resize(int w) {
+    if (relations.size() != kRelationRows * relations_stride(w)) relations.assign(kRelationRows * relations_stride(w), 0);
     static_assert(ring_rows(Plane::samples) <= kClassRingRows, "decoded rows live in rings of the classified rows' size");
     rings.resize(w, kClassRingRows, ring_rows(Plane::reach), ring_rows(Plane::interp), ring_rows(Plane::filled));
-    priority.resize(size_t(w)), total.resize(size_t(w));
+    priority.resize(size_t(w));
   }
 };
 
@@ -353,7 +400,7 @@ namespace {
 // A RowJob over whole-image planes (rows = height): the oracle's and the staged schedule's.
 RowJob whole_image_job(const EpiImage& epi, const BoundaryMasks& masks, const ReconstructSettings& s,
                        const simd::RowKernels* kernels, Reconstruction& r, PlaneStore& whole, ClassCounts* counts,
-                       float* priority_scratch, float* total_scratch) {
+                       float* priority_scratch) {
   const int w = epi.width, h = epi.height;
   const size_t n = size_t(w);
   return RowJob{epi, masks, s, kernels, r, w, h,
@@ -361,8 +408,8 @@ RowJob whole_image_job(const EpiImage& epi, const BoundaryMasks& masks, const Re
                 {whole.reach.data() + simd::kPad, samples_plane(w)},
                 {whole.interp.data() + 3 * simd::kPad, 3 * samples_plane(w)}, {whole.filled.data(), 3 * n},
                 {r.image.pixels.data(), 3 * n},
-                {whole.samples.data(), samples_stride(w)}, {whole.sides.data(), samples_plane(w)}, 0, h - 1, counts,
-                priority_scratch, total_scratch, whole.zero_samples.data(), whole.outside_sides.data()};
+                {whole.samples.data(), samples_stride(w)}, {whole.padded_types.data(), samples_plane(w)}, 0, h - 1, counts,
+                priority_scratch, whole.zero_samples.data(), whole.outside_types.data()};
 }
 
 }  // namespace
@@ -373,7 +420,7 @@ void Reconstructor::oracle(const EpiImage& epi, const BoundaryMasks& masks, cons
   const int w = epi.width, h = epi.height;
   if (w == 0 || h == 0) return;  // nothing to compute (and no rows to point into)
   scratch_->whole.resize(w, h, h, h, h);
-  RowJob job = whole_image_job(epi, masks, s, nullptr, r, scratch_->whole, &r.counts, nullptr, nullptr);
+  RowJob job = whole_image_job(epi, masks, s, nullptr, r, scratch_->whole, &r.counts, nullptr);
   for (const StageInfo& stage : kStages)
     for (int y = 0; y < h; ++y) run_stage_row(stage.stage, job, y);
 }
@@ -393,9 +440,10 @@ void Reconstructor::staged(const EpiImage& epi, const BoundaryMasks& masks, cons
       tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& range) {
         ThreadScratch& local = scratch_->threads.local();
         local.resize(w);
-        RowJob job = whole_image_job(epi, masks, s, kernels_, r, scratch_->whole, &counts.local(), nullptr,
-                                     local.total.data());
+        RowJob job = whole_image_job(epi, masks, s, kernels_, r, scratch_->whole, &counts.local(), nullptr);
         job.stage_first = range.begin(), job.reuse_reach = schedule.reach_symmetry;
+        job.reuse_relations = schedule.reuse_relations;
+        job.relations = local.relations.data();
         for (int y = range.begin(); y != range.end(); ++y) run_stage_row(stage.stage, job, y);
       });
       times[stage.stage] = ms_since(t);
@@ -441,10 +489,11 @@ void Reconstructor::tiled(const EpiImage& epi, const BoundaryMasks& masks, const
                {ring.reach.data() + simd::kPad, samples_plane(w), ring_rows(Plane::reach) - 1},
                {ring.interp.data() + 3 * simd::kPad, 3 * samples_plane(w), ring_rows(Plane::interp) - 1}, {ring.filled.data(), 3 * n, ring_rows(Plane::filled) - 1},
                {r.image.pixels.data(), 3 * n}, {ring.samples.data(), samples_stride(w), kClassRingRows - 1},
-               {ring.sides.data(), samples_plane(w), kClassRingRows - 1},
-               y0, y1 - 1, &band_counts[size_t(b)], local.priority.data(), local.total.data(),
-               ring.zero_samples.data(), ring.outside_sides.data()};
-    job.reuse_reach = schedule.reach_symmetry;
+               {ring.padded_types.data(), samples_plane(w), kClassRingRows - 1},
+               y0, y1 - 1, &band_counts[size_t(b)], local.priority.data(),
+               ring.zero_samples.data(), ring.outside_types.data()};
+    job.reuse_reach = schedule.reach_symmetry, job.reuse_relations = schedule.reuse_relations;
+    job.relations = local.relations.data();
     job.stage_first = first[size_t(Stage::reachability)];
     const int classified_first = first[size_t(Stage::classify)];
     for (int y = classified_first; y <= last[size_t(Stage::classify)] + kMaxLag; ++y)

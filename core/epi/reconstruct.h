@@ -53,6 +53,10 @@ struct Schedule {
   // (symmetry) wherever the schedule has them (docs/epi.md); false: all 24 computed (the bench's
   // measure of what the reuse saves).
   bool reach_symmetry = true;
+  // The reachability kernel's neighbour relations computed once per row and kept for the five
+  // rows that read them (docs/epi.md); false: the window's five rows recomputed for every row
+  // (the bench's measure of what that saves).
+  bool reuse_relations = true;
 };
 
 struct Reconstruction {

@@ -1,12 +1,14 @@
 #include "render/point_cache.h"
 
 #include "render/point_cache_detail.h"
+#include "render/point_projection.h"
 
 #include <algorithm>
 #include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 
@@ -24,7 +26,7 @@ constexpr float kMinLobeWidth = 0.02f;  // radians: narrower lobes age as if thi
 // The fast path's fixed work units: blocks of points, square tiles and bands of rows of the image.
 constexpr size_t kPointBlock = 16384;
 constexpr int kTileSize = 64, kBandRows = 8;
-constexpr uint32_t kNoPixel = ~uint32_t(0);  // a point not drawn this frame
+constexpr uint32_t kNoTile = ~uint32_t(0);  // a point not drawn this frame
 constexpr uint16_t kShowsNothing = 0x8000;     // age bin flag: shows_nothing (fill_epi leaves the pixel empty)
 
 }  // namespace
@@ -101,7 +103,6 @@ PointCache::PointCache(int width, int height, const PointCacheSettings& settings
   image_.point.assign(pixels, -1);
   image_.depth.assign(pixels, std::numeric_limits<float>::infinity());
   image_.region.assign(pixels, 0);
-  zbuffer_.assign(pixels, kEmptyKey);
   winners_.assign(pixels, -1);
 }
 
@@ -120,12 +121,16 @@ float PointCache::view_share(const CachePoint& p) {
   return total > 0.0f ? std::clamp(luminance(p.view_dependent) / total, 0.0f, 1.0f) : 0.0f;
 }
 
+bool PointCache::view_dependent(const CachePoint& p) {
+  return p.lobe_width > 0.0f && p.object != kNone && view_share(p) > 0.0f;
+}
+
 uint8_t PointCache::view_staleness(const CachePoint& p, const glm::vec3& to_eye) const {
-  if (p.lobe_width <= 0.0f || p.object == kNone || view_share(p) <= 0.0f) return 0;
+  if (!view_dependent(p)) return 0;
   const float length = glm::length(to_eye);
   if (!(length > 0.0f)) return 0;
-  const float turned = std::acos(std::clamp(glm::dot(to_eye / length, unpack_unit(p.view)), -1.0f, 1.0f));
-  return uint8_t(std::lround(std::min(16.0f * turned / std::max(p.lobe_width, kMinLobeWidth), 255.0f)));
+  return staleness_steps(std::clamp(glm::dot(to_eye / length, unpack_unit(p.view)), -1.0f, 1.0f),
+                         std::max(p.lobe_width, kMinLobeWidth));
 }
 
 ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull) {
@@ -141,60 +146,81 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   for (size_t o = 0; o < object_to_world.size(); ++o) eye_local_[o] = glm::vec3(glm::inverse(object_to_world[o]) * glm::vec4(frame.eye(), 1.0f));
   const int tiles_x = (w + kTileSize - 1) / kTileSize, tiles_y = (h + kTileSize - 1) / kTileSize;
   const size_t tiles = size_t(tiles_x) * size_t(tiles_y);
-  auto tile_of = [&](uint32_t pixel) { return size_t(pixel / uint32_t(w) / kTileSize) * size_t(tiles_x) + pixel % uint32_t(w) / kTileSize; };
 
-  // 1. Aging and projection (blocks of points in parallel): each point's z-buffer key and pixel
-  // (kNoPixel: not drawn), counted per tile.
+  // 1. Aging and projection (blocks of points in parallel): each point's record (z-buffer key,
+  // EPI colour word, age bin, pixel within its tile) and tile (kNoTile: not drawn), counted per tile.
   const size_t n = points_.size();
   point_blocks_.resize((n + kPointBlock - 1) / kPointBlock);
-  key_.resize(n), pixel_.resize(n), word_.resize(n), age_bin_.resize(n);
+  projected_.resize(n), point_tile_.resize(n);
   tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
     PointBlock& block = point_blocks_[b];
     std::array<uint32_t, kAgeBins> ages{};
     size_t projected = 0, expired = 0, back_facing_points = 0;
     block.free.clear();
     block.tile_count.assign(tiles, 0);
-    for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
-      CachePoint& p = points_[i];
-      pixel_[i] = kNoPixel;
-      if (!p.valid) {
-        block.free.push_back(uint32_t(i));
-        continue;
+    // In batches: the ages and world positions (scalar), then the projections and the
+    // staleness (project_batch, vectors), then the rest (scalar).
+    ProjectionBatch batch;
+    for (size_t first = b * kPointBlock, block_end = std::min(n, first + kPointBlock); first < block_end;
+         first += ProjectionBatch::kSize) {
+      const size_t count = std::min(ProjectionBatch::kSize, block_end - first);
+      for (size_t k = 0; k < ProjectionBatch::kSize; ++k) {
+        glm::vec3 world(0.0f);
+        batch.view[k] = 0, batch.lobe_width[k] = 1.0f;
+        if (k < count && points_[first + k].valid) {
+          CachePoint& p = points_[first + k];
+          p.age = uint16_t(std::min(p.age + 1, 0xffff));
+          world = world_position(p, frame, object_to_world);
+          batch.view[k] = p.view, batch.lobe_width[k] = std::max(p.lobe_width, kMinLobeWidth);
+        }
+        batch.x[k] = world.x, batch.y[k] = world.y, batch.z[k] = world.z;
       }
-      p.age = uint16_t(std::min(p.age + 1, 0xffff));
-      const glm::vec3 world = world_position(p, frame, object_to_world);
-      p.staleness = view_staleness(p, frame.eye() - world);
-      const Projection proj = frame.project(world);
-      const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
-                          proj.pixel.x < float(w) && proj.pixel.y < float(h);
-      if (!inside) {
-        p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
-        p.image_id = -1;
+      project_batch(frame, batch, count);
+      for (size_t k = 0; k < count; ++k) {
+        const size_t i = first + k;
+        CachePoint& p = points_[i];
+        point_tile_[i] = kNoTile;
+        if (!p.valid) {
+          block.free.push_back(uint32_t(i));
+          continue;
+        }
+        const glm::vec3 world(batch.x[k], batch.y[k], batch.z[k]);
+        p.staleness = !view_dependent(p) ? uint8_t(0)
+                      : batch.staleness[k] >= 0 ? uint8_t(batch.staleness[k])
+                                                : view_staleness(p, frame.eye() - world);
+        Projection proj;
+        proj.depth = batch.depth[k], proj.pixel = glm::vec2(batch.pixel_x[k], batch.pixel_y[k]);
+        const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
+                            proj.pixel.x < float(w) && proj.pixel.y < float(h);
+        if (!inside) {
+          p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
+          p.image_id = -1;
+        }
+        if (p.age > max_age) {
+          p.valid = false, p.image_id = -1;
+          ++expired;
+          block.free.push_back(uint32_t(i));
+          continue;
+        }
+        ++ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
+        if (!inside) continue;
+        if (back_facing(p)) {
+          p.image_id = -1;
+          ++back_facing_points;
+          continue;
+        }
+        const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
+        const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
+        const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
+        p.image_id = int32_t(uint32_t(py) * uint32_t(w) + uint32_t(px));
+        const uint32_t tile = uint32_t(py / kTileSize) * uint32_t(tiles_x) + uint32_t(px / kTileSize);
+        projected_[i] = {zkey(proj.depth, rx + 4 * ry, uint32_t(i)), epi_color_word(p),
+                         uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p) ? kShowsNothing : 0)),
+                         uint16_t(py % kTileSize * kTileSize + px % kTileSize)};
+        point_tile_[i] = tile;
+        ++block.tile_count[tile];
+        ++projected;
       }
-      if (p.age > max_age) {
-        p.valid = false, p.image_id = -1;
-        ++expired;
-        block.free.push_back(uint32_t(i));
-        continue;
-      }
-      ++ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
-      if (!inside) continue;
-      if (back_facing(p)) {
-        p.image_id = -1;
-        ++back_facing_points;
-        continue;
-      }
-      const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
-      const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
-      const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
-      const uint32_t pixel = uint32_t(py) * uint32_t(w) + uint32_t(px);
-      p.image_id = int32_t(pixel);
-      key_[i] = zkey(proj.depth, rx + 4 * ry, uint32_t(i));
-      pixel_[i] = pixel;
-      word_[i] = epi_color_word(p);
-      age_bin_[i] = uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p) ? kShowsNothing : 0));
-      ++block.tile_count[tile_of(pixel)];
-      ++projected;
     }
     block.projected = projected, block.expired = expired, block.back_facing = back_facing_points;
     block.ages.assign(ages.begin(), ages.end());
@@ -207,7 +233,8 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   }
 
   // 2. Binning by tile (a counting sort: tile-major, then block order): tile_begin_[t] is where
-  // tile t's keys start in binned_key_; each block's tile_count becomes its write cursor.
+  // tile t's records start in binned_; each block's tile_count becomes its write cursor. One
+  // 16-byte record per point: one write stream per tile.
   tile_begin_.assign(tiles + 1, 0);
   for (size_t t = 0; t < tiles; ++t) {
     uint32_t at = tile_begin_[t];
@@ -218,38 +245,43 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     }
     tile_begin_[t + 1] = at;
   }
-  binned_key_.resize(projected), binned_pixel_.resize(projected), binned_word_.resize(projected), binned_age_bin_.resize(projected);
+  binned_.resize(projected);
   tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
-    PointBlock& block = point_blocks_[b];
-    for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i) {
-      if (pixel_[i] == kNoPixel) continue;
-      const uint32_t at = block.tile_count[tile_of(pixel_[i])]++;
-      binned_key_[at] = key_[i], binned_pixel_[at] = pixel_[i], binned_word_[at] = word_[i], binned_age_bin_[at] = age_bin_[i];
-    }
+    uint32_t* cursor = point_blocks_[b].tile_count.data();
+    for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i)
+      if (const uint32_t tile = point_tile_[i]; tile != kNoTile) binned_[cursor[tile]++] = projected_[i];
   });
 
-  // 3. Per tile (in parallel; a tile owns its pixels): the z-buffer's minimum keys, unpacked into
-  // the image; without a depth cull, the drawn points' ages are counted in the same pass.
+  // 3. Per tile (in parallel; a tile owns its pixels): the minimum keys in a z-buffer of the
+  // tile's own (on the stack, in L1/L2), unpacked into the image with the winners' colour words;
+  // without a depth cull, the drawn points' ages are counted in the same pass.
   tile_blocks_.resize(tiles);
-  pixel_word_.resize(zbuffer_.size()), pixel_age_bin_.resize(zbuffer_.size());
+  static constexpr ProjectedPoint kNoRecord{kEmptyKey, 0, 0, 0};  // an empty pixel's winner when nothing projected
+  pixel_word_.resize(image_.point.size()), pixel_age_bin_.resize(image_.point.size());
   tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
     const int x0 = int(t % size_t(tiles_x)) * kTileSize, y0 = int(t / size_t(tiles_x)) * kTileSize;
     const int x1 = std::min(w, x0 + kTileSize), y1 = std::min(h, y0 + kTileSize);
-    for (int y = y0; y < y1; ++y) std::fill(&zbuffer_[image_.index(x0, y)], &zbuffer_[image_.index(x0, y)] + (x1 - x0), kEmptyKey);
-    for (uint32_t k = tile_begin_[t]; k != tile_begin_[t + 1]; ++k)
-      if (const uint32_t pixel = binned_pixel_[k]; binned_key_[k] < zbuffer_[pixel])
-        zbuffer_[pixel] = binned_key_[k], pixel_word_[pixel] = binned_word_[k], pixel_age_bin_[pixel] = binned_age_bin_[k];
+    std::array<uint64_t, kTileSize * kTileSize> zbuffer;
+    std::array<uint32_t, kTileSize * kTileSize> winner;
+    zbuffer.fill(kEmptyKey);
+    winner.fill(0);
+    for (uint32_t k = tile_begin_[t]; k != tile_begin_[t + 1]; ++k) {  // selects, not branches
+      const ProjectedPoint& r = binned_[k];
+      const bool nearer = r.key < zbuffer[r.tile_pixel];
+      zbuffer[r.tile_pixel] = nearer ? r.key : zbuffer[r.tile_pixel];
+      winner[r.tile_pixel] = nearer ? k : winner[r.tile_pixel];
+    }
+    // Unpacked without branches; an empty pixel keeps its region and colour word (not read).
     for (int y = y0; y < y1; ++y)
-      for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i) {
-        const uint64_t key = zbuffer_[i];
-        if (key == kEmptyKey) {
-          winners_[i] = image_.point[i] = -1;
-          image_.depth[i] = std::numeric_limits<float>::infinity();
-          continue;
-        }
-        winners_[i] = image_.point[i] = int32_t(uint32_t(key) & kIndexMask);
-        image_.depth[i] = std::bit_cast<float>(uint32_t(key >> 32));
-        image_.region[i] = uint8_t((uint32_t(key) >> 28) & 15);
+      for (int x = x0; x < x1; ++x) {
+        const size_t i = image_.index(x, y), local = size_t(y - y0) * kTileSize + size_t(x - x0);
+        const uint64_t key = zbuffer[local];
+        const bool empty = key == kEmptyKey;
+        const ProjectedPoint& won = binned_.empty() ? kNoRecord : binned_[winner[local]];
+        winners_[i] = image_.point[i] = empty ? -1 : int32_t(uint32_t(key) & kIndexMask);
+        image_.depth[i] = empty ? std::numeric_limits<float>::infinity() : std::bit_cast<float>(uint32_t(key >> 32));
+        image_.region[i] = empty ? image_.region[i] : uint8_t((uint32_t(key) >> 28) & 15);
+        pixel_word_[i] = won.word, pixel_age_bin_[i] = won.age_bin;
       }
     if (!depth_cull) count_drawn(t, x0, y0, x1, y1);
   });
@@ -281,13 +313,12 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
 }
 
 void PointCache::count_drawn(size_t tile, int x0, int y0, int x1, int y1) {
-  std::array<uint32_t, kAgeBins> ages{};
-  size_t drawn = 0;
+  std::array<uint32_t, kAgeBins + 1> ages{};  // empty pixels count in the last bin (no branch)
   for (int y = y0; y < y1; ++y)
     for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i)
-      if (image_.point[i] >= 0) ++drawn, ++ages[pixel_age_bin_[i] & ~kShowsNothing];
-  tile_blocks_[tile].drawn = drawn;
-  tile_blocks_[tile].ages.assign(ages.begin(), ages.end());
+      ++ages[image_.point[i] >= 0 ? size_t(pixel_age_bin_[i] & ~kShowsNothing) : kAgeBins];
+  tile_blocks_[tile].drawn = size_t((x1 - x0) * (y1 - y0)) - ages[kAgeBins];
+  tile_blocks_[tile].ages.assign(ages.begin(), ages.end() - 1);
 }
 
 bool PointCache::back_facing(const CachePoint& p) const {
@@ -319,11 +350,11 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
   // minimum x (1 + offset) (most of them) keeps its point without the mean.
   window_min_depth(1);
   // The means see the z-buffer's winners: culled pixels are listed per band, removed after.
-  for_bands(h, [&](int y0, int y1, std::vector<uint32_t>& culled) {
-    for (int y = y0; y != y1; ++y)
-      for (int x = 0; x < w; ++x) {
+  const float *depth = image_.depth.data(), *min_depth = min_depth_.data();
+  const int32_t* point = image_.point.data();
+  for_candidates([=](size_t i) { return (depth[i] > min_depth[i] * cull_scale) & (point[i] >= 0); },
+                 [&](int x, int y, std::vector<uint32_t>& culled) {
         const size_t i = image_.index(x, y);
-        if (!(image_.depth[i] > min_depth_[i] * cull_scale) || image_.point[i] < 0) continue;
         double sum = 0.0;
         int n = 0;
         for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
@@ -334,7 +365,6 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
             ++n;
           }
         if (image_.depth[i] > float(sum / n) * cull_scale && !protected_pixel(x, y)) culled.push_back(uint32_t(i));
-      }
   });
   return remove_listed();
 }
@@ -592,7 +622,7 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
 size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                         const EdgeCrossings& crossings) {
   if (settings_.reference_path) return cull_behind_surfaces_reference(frame, object_to_world, crossings);
-  const int w = image_.width, h = image_.height, radius = std::max(1, settings_.occlusion_radius);
+  const int radius = std::max(1, settings_.occlusion_radius);
   const float scale = 1.0f + settings_.occlusion_margin;
   // Normals back to world space: the inverse transpose of each object's matrix.
   normal_to_world_.resize(object_to_world.size());
@@ -601,14 +631,11 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   // (most of them) is skipped without looking at its neighbours.
   window_min_depth(radius);
   // The test sees the image before the pass: hidden pixels are listed per band, removed after.
-  for_bands(h, [&](int y0, int y1, std::vector<uint32_t>& hidden) {
-    for (int y = y0; y != y1; ++y)
-      for (int x = 0; x < w; ++x) {
-        const size_t i = image_.index(x, y);
-        const float depth = image_.depth[i];
-        if (!(min_depth_[i] * scale < depth) || image_.point[i] < 0) continue;
-        if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y)) hidden.push_back(uint32_t(i));
-      }
+  const float *depth = image_.depth.data(), *min_depth = min_depth_.data();
+  const int32_t* point = image_.point.data();
+  for_candidates([=](size_t i) { return (min_depth[i] * scale < depth[i]) & (point[i] >= 0); },
+                 [&](int x, int y, std::vector<uint32_t>& hidden) {
+    if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y)) hidden.push_back(uint32_t(image_.index(x, y)));
   });
   return remove_listed();
 }
@@ -618,12 +645,17 @@ void PointCache::window_min_depth(int radius) {
   row_min_depth_.resize(image_.depth.size());
   min_depth_.resize(image_.depth.size());
   tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y != rows.end(); ++y)
-      for (int x = 0; x < w; ++x) {
-        float m = std::numeric_limits<float>::infinity();
-        for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius); ++qx) m = std::min(m, image_.depth[image_.index(qx, y)]);
-        row_min_depth_[image_.index(x, y)] = m;
+    // The minimum of the row shifted by -r..r, one shift at a time (vectorizable loops; the
+    // minimum of depths, never NaN, does not depend on the order).
+    for (int y = rows.begin(); y != rows.end(); ++y) {
+      const float* in = &image_.depth[image_.index(0, y)];
+      float* out = &row_min_depth_[image_.index(0, y)];
+      std::copy(in, in + w, out);
+      for (int d = 1; d <= radius && d < w; ++d) {
+        for (int x = d; x < w; ++x) out[x] = std::min(out[x], in[x - d]);
+        for (int x = 0; x + d < w; ++x) out[x] = std::min(out[x], in[x + d]);
       }
+    }
   });
   tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y) {
@@ -643,6 +675,28 @@ void PointCache::for_bands(int height, const BandPass& pass) {
   tbb::parallel_for(size_t(0), band_lists_.size(), [&](size_t b) {
     band_lists_[b].clear();
     pass(int(b) * kBandRows, std::min(height, int(b + 1) * kBandRows), band_lists_[b]);
+  });
+}
+
+template <class Candidate, class Visit>
+void PointCache::for_candidates(const Candidate& candidate, const Visit& visit) {
+  const int w = image_.width;
+  constexpr int kChunk = 256;
+  for_bands(image_.height, [&](int y0, int y1, std::vector<uint32_t>& list) {
+    for (int y = y0; y != y1; ++y)
+      for (int x0 = 0; x0 < w; x0 += kChunk) {
+        const int n = std::min(kChunk, w - x0);
+        const size_t row = image_.index(x0, y);
+        std::array<uint8_t, kChunk + 8> flags{};  // zero past n
+        for (int k = 0; k < n; ++k) flags[size_t(k)] = uint8_t(candidate(row + size_t(k)));
+        for (int k = 0; k < n; k += 8) {
+          uint64_t any;
+          std::memcpy(&any, &flags[size_t(k)], 8);
+          if (any == 0) continue;
+          for (int j = k; j < std::min(n, k + 8); ++j)
+            if (flags[size_t(j)]) visit(x0 + j, y, list);
+        }
+      }
   });
 }
 
@@ -687,15 +741,23 @@ void PointCache::fill_epi(EpiImage& epi) const {
   if (epi.width != image_.width || epi.height != image_.height)
     throw std::invalid_argument("point cache: EPI size differs from the cache's image size");
   tbb::parallel_for(tbb::blocked_range<size_t>(0, image_.point.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
+    if (pixel_words_current_) {  // a copy, without branches (drawn and empty pixels alternate at random)
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        const bool shown = int(image_.point[i] >= 0) & int((pixel_age_bin_[i] & kShowsNothing) == 0);
+        epi.edge[i] = shown ? uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample) : uint16_t(0);
+        epi.color[i] = shown ? pixel_word_[i] : 0u;
+      }
+      return;
+    }
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const int32_t p = image_.point[i];
-      if (p < 0 || (pixel_words_current_ ? (pixel_age_bin_[i] & kShowsNothing) != 0 : shows_nothing(points_[size_t(p)]))) {
+      if (p < 0 || shows_nothing(points_[size_t(p)])) {
         epi.edge[i] = 0;
         epi.color[i] = 0;
         continue;
       }
       epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
-      epi.color[i] = pixel_words_current_ ? pixel_word_[i] : epi_color_word(points_[size_t(p)]);
+      epi.color[i] = epi_color_word(points_[size_t(p)]);
     }
   });
 }

@@ -168,6 +168,8 @@ class PointCache {
   // How far the view has turned at p since it was shaded (to_eye: from the point to the eye now),
   // in 1/16 lobe widths; 0 for shading that does not depend on the view.
   uint8_t view_staleness(const CachePoint& p, const glm::vec3& to_eye) const;
+  // Whether p's shading depends on the view at all (else its staleness is 0).
+  static bool view_dependent(const CachePoint& p);
   // The share of p's colour that depends on the view.
   static float view_share(const CachePoint& p);
   bool refines(const CachePoint& cached, const CachePoint& result) const;
@@ -208,6 +210,11 @@ class PointCache {
   // list in band_lists_; remove_listed() then empties the listed pixels and counts them.
   template <class BandPass>
   void for_bands(int height, const BandPass& pass);
+  // for_bands over the pixels where candidate(pixel index) holds: visit(x, y, list). The test runs
+  // over a chunk of a row first, without branches (drawn and empty pixels alternate at random),
+  // so the visits (rare) are the only branch taken.
+  template <class Candidate, class Visit>
+  void for_candidates(const Candidate& candidate, const Visit& visit);
   size_t remove_listed();
 
   PointCacheSettings settings_;
@@ -218,19 +225,22 @@ class PointCache {
   std::vector<uint32_t> age_histogram_;  // of the last projection less the points evicted since (not drawn last)
   size_t hidden_removed_ = 0, refined_ = 0;
   PointImage image_;
-  std::vector<uint64_t> zbuffer_;  // (depth bits << 32) | point index, min wins
+  std::vector<uint64_t> zbuffer_;  // reference path: (depth bits << 32) | point index, min wins
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull
   std::vector<PointBlock> point_blocks_;
   std::vector<TileBlock> tile_blocks_;
-  // Per point, this frame: z-buffer key, pixel (kNoPixel: none), EPI colour word, age histogram bin.
-  std::vector<uint64_t> key_;
-  std::vector<uint32_t> pixel_, word_;
-  std::vector<uint16_t> age_bin_;
-  // The same, binned by tile: tile t's are binned_*[tile_begin_[t], tile_begin_[t + 1]).
+  // Per point, this frame: its z-buffer key, EPI colour word, age bin and pixel within its tile
+  // (16 bytes, one record: the binning scatters one stream per tile), and its tile (none: ~0).
+  struct ProjectedPoint {
+    uint64_t key;
+    uint32_t word;
+    uint16_t age_bin, tile_pixel;
+  };
+  std::vector<ProjectedPoint> projected_;
+  std::vector<uint32_t> point_tile_;
+  // The same, binned by tile: tile t's are binned_[tile_begin_[t], tile_begin_[t + 1]).
   std::vector<uint32_t> tile_begin_;
-  std::vector<uint64_t> binned_key_;
-  std::vector<uint32_t> binned_pixel_, binned_word_;
-  std::vector<uint16_t> binned_age_bin_;
+  std::vector<ProjectedPoint> binned_;
   // The EPI colour word and age bin of each pixel's z-buffer winner, made while the projection
   // streams the cloud (fill_epi then reads no point); the words are current until an insert.
   std::vector<uint32_t> pixel_word_;

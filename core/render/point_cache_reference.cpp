@@ -22,7 +22,7 @@ ProjectionCounts PointCache::project_reference(const ViewFrame& frame, std::span
   const int w = image_.width, h = image_.height;
   if (frame.view().width != w || frame.view().height != h)
     throw std::invalid_argument("point cache: view size differs from the cache's image size");
-  std::fill(zbuffer_.begin(), zbuffer_.end(), kEmptyKey);
+  zbuffer_.assign(image_.point.size(), kEmptyKey);  // sized on first use (the fast path has none)
   const float znear = std::max(frame.view().camera.znear, 0.0f);
   const int max_age = settings_.max_age;
   // The eye in each object's space: a point's stored normal faces the eye it was shaded from, and

@@ -146,8 +146,6 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
   if (previous_camera_ && !same_camera(*previous_camera_, camera) && settings_.predict_share > 0.0f) {
     const Camera ahead = extrapolate_camera(*previous_camera_, camera, settings_.predict_frames);
     const ViewFrame predicted(make_view(ahead, w, h));
-    predicted_occupancy(cache_, predicted, transforms_, settings_.predict_stride, frame_ % std::max(1, settings_.predict_stride),
-                        settings_.predict_splat, occupied_);
     // Gaps about to open: predicted pixels without points whose ray, at the typical depth of the
     // current points, lies outside the current view (areas the current priority cannot see).
     // The typical depth: the mean over fixed bands of rows, summed in band order (the same for
@@ -182,6 +180,13 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
                                                           now.pixel.x >= float(w) || now.pixel.y >= float(h);
       }
     });
+    // A gap needs an unseen block: with none (the camera moves forward, or barely), the predicted
+    // occupancy cannot matter and is not computed.
+    if (std::find(unseen_.begin(), unseen_.end(), uint8_t(1)) != unseen_.end())
+      predicted_occupancy(cache_, predicted, transforms_, settings_.predict_stride, frame_ % std::max(1, settings_.predict_stride),
+                          settings_.predict_splat, occupied_);
+    else
+      occupied_.resize(size_t(w) * size_t(h));
     std::vector<uint8_t>& gaps = occupied_;  // each pixel read, then overwritten by its gap flag
     gap_rows_.resize(size_t(h) + 1);  // gap_rows_[y]: gaps in the rows above y
     gap_rows_[0] = 0;

@@ -1,5 +1,7 @@
 #include "render/sampling.h"
 
+#include "render/point_projection.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -263,21 +265,37 @@ void predicted_occupancy(const PointCache& cache, const ViewFrame& frame, std::s
   const auto& points = cache.points();
   stride = std::max(1, stride);
   const float znear = std::max(frame.view().camera.znear, 0.0f);
-  // Points in parallel; a pixel is only ever set to 1, through an atomic reference.
+  // Points in parallel; a pixel is only ever set to 1, through an atomic reference. The subset is
+  // chosen before a point is read; the chosen ones are projected in batches (project_batch, the
+  // point cache's kernel: ViewFrame::project's bits).
+  const uint64_t subset = uint64_t(std::max(0, phase) % stride);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 8192), [&](const tbb::blocked_range<size_t>& r) {
+    ProjectionBatch batch;
+    size_t count = 0;
+    auto splat_batch = [&] {
+      for (size_t k = count; k < std::min(ProjectionBatch::kSize, count + 16); ++k)  // the last vector's lanes
+        batch.x[k] = batch.y[k] = batch.z[k] = 0.0f, batch.view[k] = 0, batch.lobe_width[k] = 1.0f;
+      project_batch(frame, batch, count);
+      for (size_t k = 0; k < count; ++k) {
+        if (!(batch.depth[k] > znear)) continue;
+        const float fx = std::floor(batch.pixel_x[k] - 0.5f * float(splat) + 0.5f);
+        const float fy = std::floor(batch.pixel_y[k] - 0.5f * float(splat) + 0.5f);
+        if (!(fx > -float(splat) && fy > -float(splat) && fx < float(w) && fy < float(h))) continue;
+        const int x0 = int(fx), y0 = int(fy);
+        for (int y = std::max(0, y0); y < std::min(h, y0 + splat); ++y)
+          for (int x = std::max(0, x0); x < std::min(w, x0 + splat); ++x)
+            std::atomic_ref<uint8_t>(occupied[size_t(y) * size_t(w) + size_t(x)]).store(1, std::memory_order_relaxed);
+      }
+      count = 0;
+    };
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      const CachePoint& p = points[i];
-      if (!p.valid || splitmix64(i) % uint64_t(stride) != uint64_t(std::max(0, phase) % stride)) continue;
-      const Projection proj = frame.project(cache.world_position(p, frame, object_to_world));
-      if (!(proj.depth > znear)) continue;
-      const float fx = std::floor(proj.pixel.x - 0.5f * float(splat) + 0.5f);
-      const float fy = std::floor(proj.pixel.y - 0.5f * float(splat) + 0.5f);
-      if (!(fx > -float(splat) && fy > -float(splat) && fx < float(w) && fy < float(h))) continue;
-      const int x0 = int(fx), y0 = int(fy);
-      for (int y = std::max(0, y0); y < std::min(h, y0 + splat); ++y)
-        for (int x = std::max(0, x0); x < std::min(w, x0 + splat); ++x)
-          std::atomic_ref<uint8_t>(occupied[size_t(y) * size_t(w) + size_t(x)]).store(1, std::memory_order_relaxed);
+      if (splitmix64(i) % uint64_t(stride) != subset || !points[i].valid) continue;
+      const glm::vec3 world = cache.world_position(points[i], frame, object_to_world);
+      batch.x[count] = world.x, batch.y[count] = world.y, batch.z[count] = world.z;
+      batch.view[count] = 0, batch.lobe_width[count] = 1.0f;
+      if (++count == ProjectionBatch::kSize) splat_batch();
     }
+    if (count > 0) splat_batch();
   });
 }
 

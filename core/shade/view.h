@@ -45,6 +45,8 @@ class ViewFrame {
   const glm::vec3& forward() const { return forward_; }
   const glm::vec3& right() const { return right_; }
   const glm::vec3& up() const { return up_; }
+  float half_width() const { return half_width_; }    // project() divides by depth x these
+  float half_height() const { return half_height_; }
 
  private:
   View view_;

@@ -3,7 +3,9 @@
 // Bit-identical point images, clouds, EPIs and frames, for the bundled scenes along their camera
 // paths with a moving object, odd and degenerate sizes, and one or two threads; and the same for a
 // bare cache fed random results with random edge masks (docs/performance.md, "Point processing").
+#include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -16,6 +18,7 @@
 
 #include "load_scene.h"
 #include "render/camera_path.h"
+#include "render/point_cache_detail.h"
 #include "render/renderer.h"
 
 namespace epi::render {
@@ -122,7 +125,7 @@ TEST(PointCacheFastPath, FramesAlongTheCameraPathsMatchTheReferenceBitForBit) {
 // every entry point (project with and without the cull, depth_cull with edges,
 // cull_behind_surfaces, fill_epi), all ages up to expiry.
 TEST(PointCacheFastPath, RandomCloudsMatchTheReferenceBitForBit) {
-  for (const auto [w, h] : {std::pair{1, 1}, std::pair{1, 17}, std::pair{23, 1}, std::pair{31, 19}, std::pair{64, 64}}) {
+  for (const auto& [w, h] : {std::pair{1, 1}, std::pair{1, 17}, std::pair{23, 1}, std::pair{31, 19}, std::pair{64, 64}}) {
     for (int threads : {1, 2}) {
       const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
       PointCacheSettings settings;
@@ -228,6 +231,42 @@ TEST(PointCacheFastPath, EpiColourByStepsEncodesLikeEncodeEpiColour8) {
   std::mt19937 rng(7);
   std::uniform_int_distribution<uint32_t> any(0, std::bit_cast<uint32_t>(kEpiColourMax));
   for (int k = 0; k < 1000000 && !HasFailure(); ++k) check(std::bit_cast<float>(any(rng)));
+}
+
+// The staleness without acos where a polynomial settles it: equal to the direct formula at every
+// rounding boundary (cosines within 64 ulps of cos((k + 1/2) width / 16) and of the cap), at the
+// ends, and for a million random cosines and widths.
+TEST(PointCacheFastPath, StalenessStepsEqualsTheDirectFormula) {
+  auto direct = [](float cosine, float width) {
+    return uint8_t(std::lround(std::min(16.0f * std::acos(cosine) / width, 255.0f)));
+  };
+  size_t checked = 0;
+  auto check = [&](float cosine, float width) {
+    cosine = std::clamp(cosine, -1.0f, 1.0f);
+    ++checked;
+    if (detail::staleness_steps(cosine, width) != direct(cosine, width))
+      ADD_FAILURE() << "cosine " << cosine << " (bits " << std::bit_cast<uint32_t>(cosine) << ") width " << width << ": "
+                    << int(detail::staleness_steps(cosine, width)) << " != " << int(direct(cosine, width));
+  };
+  for (float width : {0.02f, 0.0217f, 0.05f, 0.1f, 0.3f, 0.77f, 1.0f, 3.0f, 10.0f}) {
+    for (float c : {-1.0f, -0.99999994f, -0.5f, 0.0f, 0.5f, 0.99999994f, 1.0f}) check(c, width);
+    for (int k = 0; k <= 256 && !HasFailure(); ++k) {
+      const double angle = (k + 0.5) * double(width) / 16.0;
+      if (angle > 3.14159265) break;
+      const uint32_t bits = std::bit_cast<uint32_t>(float(std::cos(angle)));
+      for (int d = -64; d <= 64; ++d) check(std::bit_cast<float>(uint32_t(int64_t(bits) + d)), width);
+      check(-std::bit_cast<float>(bits), width);
+    }
+  }
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> cosine(-1.0f, 1.0f), log_width(std::log(0.02f), std::log(4.0f));
+  std::uniform_int_distribution<uint32_t> near_one(std::bit_cast<uint32_t>(0.99f), std::bit_cast<uint32_t>(1.0f));
+  for (int k = 0; k < 500000 && !HasFailure(); ++k) {
+    const float width = std::exp(log_width(rng));
+    check(cosine(rng), width);
+    check(std::bit_cast<float>(near_one(rng)), width);
+  }
+  EXPECT_GT(checked, size_t(1000000));
 }
 
 }  // namespace

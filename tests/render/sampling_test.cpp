@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
@@ -272,6 +273,53 @@ TEST(Predict, OccupancyFindsTheGapsAboutToOpen) {
         }
       }
     EXPECT_LT(false_gaps, seen / 100) << "phase " << phase;
+  }
+}
+
+// The batched projection (project_batch) against the straightforward splat of every point, for
+// random clouds on moving objects and random cameras; the two halves of stride 2 make up stride 1.
+TEST(Predict, OccupancyEqualsTheStraightforwardSplat) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (const auto& [w, h] : {std::pair{1, 1}, std::pair{37, 23}, std::pair{64, 48}, std::pair{5, 300}}) {
+    View view;
+    view.camera.eye = {0, 0, 6}, view.camera.target = {0, 0, 0}, view.width = w, view.height = h;
+    const ViewFrame shot(view);
+    PointCache cache(w, h);
+    ShadeBatch batch;
+    for (int k = 0; k < 3 * w * h + 600; ++k) {  // more results than slots: evictions too
+      ShadeResult r;
+      r.x = (u(rng) * 0.5f + 0.5f) * float(w), r.y = (u(rng) * 0.5f + 0.5f) * float(h);
+      r.hit = k % 7 != 0, r.object = uint32_t(k % 3);
+      r.position = {4.0f * u(rng), 4.0f * u(rng), 8.0f * u(rng)};
+      r.normal = glm::normalize(glm::vec3(u(rng), u(rng), 1.0f));
+      batch.results.push_back(r);
+    }
+    std::vector<glm::mat4> transforms(3, glm::mat4(1.0f));
+    cache.insert(shot, batch, transforms);
+    transforms[1] = glm::translate(glm::mat4(1.0f), glm::vec3(0.3f, -0.2f, 0.1f));
+    transforms[2] = glm::rotate(glm::mat4(1.0f), 0.2f, glm::vec3(0, 1, 0));
+    View moved = view;
+    moved.camera.eye = {0.4f, 0.1f, 5.5f};
+    const ViewFrame ahead(moved);
+    for (const int splat : {1, 3}) {
+      std::vector<uint8_t> expected(size_t(w) * size_t(h), 0);
+      for (const CachePoint& p : cache.points()) {
+        if (!p.valid) continue;
+        const Projection proj = ahead.project(cache.world_position(p, ahead, transforms));
+        if (!(proj.depth > moved.camera.znear)) continue;
+        const float fx = std::floor(proj.pixel.x - 0.5f * float(splat) + 0.5f), fy = std::floor(proj.pixel.y - 0.5f * float(splat) + 0.5f);
+        if (!(fx > -float(splat) && fy > -float(splat) && fx < float(w) && fy < float(h))) continue;
+        for (int y = std::max(0, int(fy)); y < std::min(h, int(fy) + splat); ++y)
+          for (int x = std::max(0, int(fx)); x < std::min(w, int(fx) + splat); ++x) expected[size_t(y) * size_t(w) + size_t(x)] = 1;
+      }
+      EXPECT_EQ(predicted_occupancy(cache, ahead, transforms, 1, 0, splat), expected) << w << "x" << h << " splat " << splat;
+      std::vector<uint8_t> both = predicted_occupancy(cache, ahead, transforms, 2, 0, splat);
+      const std::vector<uint8_t> odd = predicted_occupancy(cache, ahead, transforms, 2, 1, splat);
+      for (size_t i = 0; i < both.size(); ++i) both[i] |= odd[i];
+      EXPECT_EQ(both, expected) << w << "x" << h << " splat " << splat;
+      EXPECT_GT(std::count(expected.begin(), expected.end(), 1), 0);
+    }
   }
 }
 

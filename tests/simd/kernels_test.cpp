@@ -53,6 +53,10 @@ class Kernels : public testing::TestWithParam<int64_t> {
     expect_same("staged");
     fast.tiled(b.epi, b.masks, s, {7, 1, false}, r);
     expect_same("tiled, reachability without symmetry");
+    fast.tiled(b.epi, b.masks, s, {6, 1, false, false}, r);
+    expect_same("tiled, reachability without symmetry and relation rows recomputed");
+    fast.staged(b.epi, b.masks, s, r, times, {8, 1, true, false});
+    expect_same("staged, relation rows recomputed");
     ASSERT_EQ(input.edge, b.epi.edge);  // the input is never written
     ASSERT_EQ(input.color, b.epi.color);
   }
@@ -79,9 +83,10 @@ TEST_P(Kernels, RandomPatternsEqualTheOracle) {
   }
 }
 
+// Widths around every vector width: 4-16 float lanes, 16-64 byte lanes (reachability).
 TEST_P(Kernels, ExtremeSizes) {
   for (auto [w, h] : {std::pair{0, 0}, {0, 5}, {5, 0}, {1, 1}, {1, 17}, {17, 1}, {2, 3}, {15, 4}, {16, 4}, {17, 4},
-                      {31, 3}, {33, 3}, {64, 2}, {65, 2}})
+                      {31, 3}, {33, 3}, {63, 3}, {64, 2}, {65, 2}, {127, 3}, {128, 2}, {129, 3}})
     for (double d : {0.0, 0.5, 1.0}) {
       const test::Built b = test::build(test::random_pattern(std::max(w, 1), std::max(h, 1), 6, uint64_t(w * 100 + h)), d, 3);
       if (w == 0 || h == 0) {

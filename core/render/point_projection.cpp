@@ -1,0 +1,104 @@
+// project_batch for every Highway target (foreach_target.h compiles this file once per target).
+#include "render/point_projection.h"
+
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "render/point_projection.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace epi::render {
+namespace HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+struct Constants {
+  float eye[3], forward[3], right[3], up[3], half_width, half_height, width, height;
+};
+
+// a.x * b.x + a.y * b.y + a.z * b.z, added left to right (glm::dot).
+template <class V>
+HWY_INLINE V Dot(V ax, V ay, V az, V bx, V by, V bz) {
+  return hn::Add(hn::Add(hn::Mul(ax, bx), hn::Mul(ay, by)), hn::Mul(az, bz));
+}
+
+void ProjectBatch(const Constants& c, ProjectionBatch& b, size_t n) {
+  const hn::ScalableTag<float> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  const hn::RebindToUnsigned<decltype(d)> du;
+  const auto zero = hn::Zero(d), one = hn::Set(d, 1.0f), minus_one = hn::Set(d, -1.0f), half = hn::Set(d, 0.5f);
+  for (size_t i = 0; i < n; i += hn::Lanes(d)) {
+    const auto wx = hn::Load(d, b.x + i), wy = hn::Load(d, b.y + i), wz = hn::Load(d, b.z + i);
+    // ViewFrame::project.
+    const auto rx = hn::Sub(wx, hn::Set(d, c.eye[0])), ry = hn::Sub(wy, hn::Set(d, c.eye[1])), rz = hn::Sub(wz, hn::Set(d, c.eye[2]));
+    const auto depth = Dot(rx, ry, rz, hn::Set(d, c.forward[0]), hn::Set(d, c.forward[1]), hn::Set(d, c.forward[2]));
+    const auto sx = hn::Div(Dot(rx, ry, rz, hn::Set(d, c.right[0]), hn::Set(d, c.right[1]), hn::Set(d, c.right[2])),
+                            hn::Mul(depth, hn::Set(d, c.half_width)));
+    const auto sy = hn::Div(Dot(rx, ry, rz, hn::Set(d, c.up[0]), hn::Set(d, c.up[1]), hn::Set(d, c.up[2])),
+                            hn::Mul(depth, hn::Set(d, c.half_height)));
+    hn::Store(depth, d, b.depth + i);
+    hn::Store(hn::Mul(hn::Mul(hn::Add(sx, one), half), hn::Set(d, c.width)), d, b.pixel_x + i);
+    hn::Store(hn::Mul(hn::Mul(hn::Sub(one, sy), half), hn::Set(d, c.height)), d, b.pixel_y + i);
+    // PointCache::view_staleness: the cosine of the turn, as it computes it.
+    const auto tx = hn::Sub(hn::Set(d, c.eye[0]), wx), ty = hn::Sub(hn::Set(d, c.eye[1]), wy), tz = hn::Sub(hn::Set(d, c.eye[2]), wz);
+    const auto length = hn::Sqrt(Dot(tx, ty, tz, tx, ty, tz));
+    const auto view = hn::Load(du, b.view + i);
+    const auto steps_65535 = hn::Set(d, 65535.0f), two = hn::Set(d, 2.0f);
+    const auto ex = hn::Sub(hn::Mul(hn::Div(hn::ConvertTo(d, hn::BitCast(di, hn::And(view, hn::Set(du, 0xffffu)))), steps_65535), two), one);
+    const auto ey = hn::Sub(hn::Mul(hn::Div(hn::ConvertTo(d, hn::BitCast(di, hn::ShiftRight<16>(view))), steps_65535), two), one);
+    const auto nz = hn::Sub(hn::Sub(one, hn::Abs(ex)), hn::Abs(ey));
+    const auto folded = hn::Lt(nz, zero);
+    const auto fx = hn::Mul(hn::Sub(one, hn::Abs(ey)), hn::IfThenElse(hn::Ge(ex, zero), one, minus_one));
+    const auto fy = hn::Mul(hn::Sub(one, hn::Abs(ex)), hn::IfThenElse(hn::Ge(ey, zero), one, minus_one));
+    const auto nx = hn::IfThenElse(folded, fx, ex), ny = hn::IfThenElse(folded, fy, ey);
+    const auto inverse = hn::Div(one, hn::Sqrt(Dot(nx, ny, nz, nx, ny, nz)));
+    const auto cosine_raw = Dot(hn::Div(tx, length), hn::Div(ty, length), hn::Div(tz, length), hn::Mul(nx, inverse),
+                                hn::Mul(ny, inverse), hn::Mul(nz, inverse));
+    const auto cosine = hn::Min(hn::Max(cosine_raw, minus_one), one);
+    // detail::staleness_steps' estimate and its error bound.
+    const auto width = hn::Load(d, b.lobe_width + i);
+    const auto x = hn::Abs(cosine);
+    auto poly = hn::Add(hn::Set(d, 0.0742610f), hn::Mul(x, hn::Set(d, -0.0187293f)));
+    poly = hn::Add(hn::Set(d, -0.2121144f), hn::Mul(x, poly));
+    poly = hn::Add(hn::Set(d, 1.5707288f), hn::Mul(x, poly));
+    auto turned = hn::Mul(hn::Sqrt(hn::Sub(one, x)), poly);
+    turned = hn::IfThenElse(hn::Lt(cosine, zero), hn::Sub(hn::Set(d, 3.14159265f), turned), turned);
+    const auto steps = hn::Div(hn::Mul(hn::Set(d, 16.0f), turned), width);
+    const auto error = hn::Add(hn::Add(hn::Div(hn::Set(d, 16.0f * 1e-4f), width), hn::Mul(hn::Set(d, 1e-5f), steps)), hn::Set(d, 1e-5f));
+    const auto cap = hn::Set(d, 255.0f);
+    const auto capped = hn::Ge(hn::Sub(steps, error), cap);
+    const auto low = hn::Floor(hn::Add(hn::Sub(steps, error), half)), high = hn::Floor(hn::Add(hn::Add(steps, error), half));
+    const auto decided = hn::And(hn::Eq(low, high), hn::Le(high, cap));
+    // Settled only for a positive distance and a cosine that is a number (NaN fails both tests).
+    const auto sound = hn::And(hn::Gt(length, zero), hn::Eq(cosine_raw, cosine_raw));
+    auto result = hn::IfThenElse(hn::RebindMask(di, decided), hn::ConvertTo(di, hn::IfThenElse(decided, high, zero)), hn::Set(di, -1));
+    result = hn::IfThenElse(hn::RebindMask(di, capped), hn::Set(di, 255), result);
+    result = hn::IfThenElse(hn::RebindMask(di, sound), result, hn::Set(di, -1));
+    hn::Store(result, di, b.staleness + i);
+  }
+}
+
+// HWY_EXPORT needs a plain function pointer per target.
+void ProjectBatchFrame(const ViewFrame& frame, ProjectionBatch& batch, size_t n) {
+  Constants c;
+  for (int k = 0; k < 3; ++k)
+    c.eye[k] = frame.eye()[k], c.forward[k] = frame.forward()[k], c.right[k] = frame.right()[k], c.up[k] = frame.up()[k];
+  c.half_width = frame.half_width(), c.half_height = frame.half_height();
+  c.width = float(frame.view().width), c.height = float(frame.view().height);
+  ProjectBatch(c, batch, n);
+}
+
+}  // namespace HWY_NAMESPACE
+}  // namespace epi::render
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace epi::render {
+
+HWY_EXPORT(ProjectBatchFrame);
+
+void project_batch(const ViewFrame& frame, ProjectionBatch& batch, size_t n) {
+  HWY_DYNAMIC_DISPATCH(ProjectBatchFrame)(frame, batch, n);
+}
+
+}  // namespace epi::render
+#endif  // HWY_ONCE

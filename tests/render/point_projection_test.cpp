@@ -1,0 +1,82 @@
+// The point cache's projection kernel (core/render/point_projection.h) on every Highway target
+// compiled and supported here, against the scalar code it replaces: ViewFrame::project's depth
+// and pixel bit for bit, and the staleness, where the kernel settles it, equal to the scalar
+// formula (detail::staleness_steps of the cosine PointCache::view_staleness computes).
+#include <bit>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <hwy/targets.h>
+
+#include "render/point_cache_detail.h"
+#include "render/point_projection.h"
+
+namespace epi::render {
+namespace {
+
+bool same_bits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b) || (std::isnan(a) && std::isnan(b)); }
+
+TEST(PointProjection, EveryTargetGivesTheScalarBits) {
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  for (const int64_t target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> coordinate(-20.0f, 20.0f), log_width(std::log(0.02f), std::log(3.0f));
+    size_t settled = 0, viewed = 0;
+    for (int round = 0; round < 40 && !HasFailure(); ++round) {
+      View view;
+      view.camera.eye = {coordinate(rng), coordinate(rng), coordinate(rng)};
+      view.camera.target = view.camera.eye + glm::vec3(coordinate(rng), coordinate(rng), coordinate(rng) + 0.5f);
+      view.camera.yfov_degrees = 20.0f + float(round);
+      view.width = 37 + round * 13, view.height = 23 + round * 7;
+      const ViewFrame frame(view);
+      ProjectionBatch batch;
+      const size_t n = ProjectionBatch::kSize - size_t(round % 7);  // a partial batch too
+      for (size_t k = 0; k < ProjectionBatch::kSize; ++k) {
+        glm::vec3 world{coordinate(rng), coordinate(rng), coordinate(rng)};
+        if (k % 17 == 0) world = view.camera.eye;                               // zero distance to the eye
+        if (k % 29 == 0) world = view.camera.eye + 1e-3f * (world - view.camera.eye);  // close to it
+        if (k % 31 == 0) world *= 1e25f;                                         // overflow: inf, NaN
+        batch.x[k] = world.x, batch.y[k] = world.y, batch.z[k] = world.z;
+        batch.view[k] = uint32_t(rng());
+        if (k % 5 == 0) batch.view[k] = 0x7fff7fffu + uint32_t(k % 3);  // near the octahedron's centre
+        batch.lobe_width[k] = std::exp(log_width(rng));
+      }
+      // Half the points seen from where they were shaded, give or take a little.
+      for (size_t k = 0; k < ProjectionBatch::kSize; k += 2) {
+        const glm::vec3 to_eye = view.camera.eye - glm::vec3(batch.x[k], batch.y[k], batch.z[k]);
+        const float l1 = std::abs(to_eye.x) + std::abs(to_eye.y) + std::abs(to_eye.z);
+        if (!(l1 > 0.0f) || !std::isfinite(l1) || to_eye.z < 0.0f) continue;
+        const auto q = [](float v) { return uint32_t(std::lround((std::clamp(v, -1.0f, 1.0f) * 0.5f + 0.5f) * 65535.0f)); };
+        batch.view[k] = (q(to_eye.x / l1) + uint32_t(rng() % 9)) % 65536 | (q(to_eye.y / l1) + uint32_t(rng() % 9)) % 65536 << 16;
+      }
+      project_batch(frame, batch, n);
+      for (size_t k = 0; k < n; ++k) {
+        const glm::vec3 world(batch.x[k], batch.y[k], batch.z[k]);
+        const Projection p = frame.project(world);
+        if (!same_bits(p.depth, batch.depth[k]) || !same_bits(p.pixel.x, batch.pixel_x[k]) || !same_bits(p.pixel.y, batch.pixel_y[k]))
+          ADD_FAILURE() << hwy::TargetName(target) << ": projection of entry " << k << " differs: " << p.depth << " "
+                        << batch.depth[k] << ", " << p.pixel.x << " " << batch.pixel_x[k] << ", " << p.pixel.y << " " << batch.pixel_y[k];
+        const glm::vec3 to_eye = frame.eye() - world;
+        const float length = glm::length(to_eye);
+        if (batch.staleness[k] < 0) continue;
+        ++settled;
+        ASSERT_TRUE(length > 0.0f) << hwy::TargetName(target) << " settled a point at the eye";
+        const float cosine = std::clamp(glm::dot(to_eye / length, detail::unpack_unit(batch.view[k])), -1.0f, 1.0f);
+        ASSERT_FALSE(std::isnan(cosine)) << hwy::TargetName(target) << " settled a NaN cosine";
+        if (k % 2 == 0 && cosine > 0.99f) ++viewed;
+        ASSERT_EQ(batch.staleness[k], int(detail::staleness_steps(cosine, batch.lobe_width[k])))
+            << hwy::TargetName(target) << ", entry " << k << ": cosine " << cosine << ", width " << batch.lobe_width[k];
+      }
+    }
+    EXPECT_GT(settled, size_t(8000)) << hwy::TargetName(target);  // of 40 x ~250: most are settled
+    EXPECT_GT(viewed, size_t(500)) << hwy::TargetName(target);
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+}  // namespace
+}  // namespace epi::render
