@@ -18,7 +18,7 @@ namespace {
 
 template <bool kInterior>
 float weighted_sum_impl(const EpiRows& rows, int x, int y, uint32_t take, uint16_t need, float rgb[3]) {
-  const auto& lut = srgb8_to_linear();
+  const auto& lut = epi_color8_to_linear();
   const int dx0 = kInterior ? -2 : std::max(-2, -x), dx1 = kInterior ? 2 : std::min(2, rows.width - 1 - x);
   const int dy0 = kInterior ? -2 : std::max(-2, -y), dy1 = kInterior ? 2 : std::min(2, rows.height - 1 - y);
   float sum[3] = {0, 0, 0}, total = 0;
@@ -84,7 +84,7 @@ bool window_holds_edges(TypeRows types, int x, int y, int r) {
 
 bool reachable_fallback(const EpiRows& rows, int x, int y, float rgb[3]) {
   const uint64_t reach = reach_window7(rows.type_rows(), x, y);
-  const auto& lut = srgb8_to_linear();
+  const auto& lut = epi_color8_to_linear();
   float sum[3] = {0, 0, 0}, total = 0;
   for (int dy = std::max(-3, -y); dy <= std::min(3, rows.height - 1 - y); ++dy)
     for (int dx = std::max(-3, -x); dx <= std::min(3, rows.width - 1 - x); ++dx) {

@@ -191,7 +191,7 @@ void decode_stage(RowJob& j, int y) {
   if (!j.kernels) return;  // both filters' vector kernels read the decoded rows
   const size_t plane = samples_plane(j.width);
   float* base = j.samples.row(y) + simd::kPad;  // planes green, blue, usable, sampled, red
-  j.kernels->decode({j.width, j.edge.row(y), &j.in.color[size_t(y) * size_t(j.width)], srgb8_to_linear().data(),
+  j.kernels->decode({j.width, j.edge.row(y), &j.in.color[size_t(y) * size_t(j.width)], epi_color8_to_linear().data(),
                      base + 4 * plane, base, base + plane, base + 2 * plane, base + 3 * plane});
   std::memcpy(j.padded_types.row(y) + simd::kPad, j.types.row(y), size_t(j.width));
 }

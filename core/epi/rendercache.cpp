@@ -8,7 +8,7 @@ namespace epi {
 
 float rendercache_pixel(const EpiRows& rows, int x, int y, float rgb[3]) {
   static constexpr float kWeights[9] = {0.25f, 0.5f, 0.25f, 0.5f, 1.0f, 0.5f, 0.25f, 0.5f, 0.25f};
-  const auto& lut = srgb8_to_linear();
+  const auto& lut = epi_color8_to_linear();
   const int dx0 = std::max(-1, -x), dx1 = std::min(1, rows.width - 1 - x);
   const int dy0 = std::max(-1, -y), dy1 = std::min(1, rows.height - 1 - y);
   float sum[3] = {0, 0, 0}, total = 0;

@@ -29,13 +29,25 @@ constexpr int kTileSize = 64, kBandRows = 8;
 constexpr uint32_t kNoTile = ~uint32_t(0);  // a point not drawn this frame
 constexpr uint16_t kShowsNothing = 0x8000;     // age bin flag: shows_nothing (fill_epi leaves the pixel empty)
 
-uint32_t pack_srgb(const glm::vec3& c) {
-  return uint32_t(encode_srgb8(c.r)) | uint32_t(encode_srgb8(c.g)) << 8 | uint32_t(encode_srgb8(c.b)) << 16;
+}  // namespace
+
+glm::vec3 epi_colour(const glm::vec3& color, const glm::vec3& view_dependent) {
+  glm::vec3 base = glm::max(color - view_dependent, glm::vec3(0.0f));
+  base *= epi_color_scale(base.r, base.g, base.b);
+  return glm::min(base + view_dependent, glm::max(base, glm::vec3(1.0f)));
 }
 
-uint32_t pack_srgb_by_steps(const glm::vec3& c) {
-  return uint32_t(encode_srgb8_by_steps(c.r)) | uint32_t(encode_srgb8_by_steps(c.g)) << 8 |
-         uint32_t(encode_srgb8_by_steps(c.b)) << 16;
+namespace {
+
+uint32_t pack_srgb(const glm::vec3& color, const glm::vec3& view_dependent) {
+  const glm::vec3 c = epi_colour(color, view_dependent);
+  return uint32_t(encode_epi_color8(c.r)) | uint32_t(encode_epi_color8(c.g)) << 8 | uint32_t(encode_epi_color8(c.b)) << 16;
+}
+
+uint32_t pack_srgb_by_steps(const glm::vec3& color, const glm::vec3& view_dependent) {
+  const glm::vec3 c = epi_colour(color, view_dependent);
+  return uint32_t(encode_epi_color8_by_steps(c.r)) | uint32_t(encode_epi_color8_by_steps(c.g)) << 8 |
+         uint32_t(encode_epi_color8_by_steps(c.b)) << 16;
 }
 
 // Octahedral unit vector packing, 16 bits per coordinate.
@@ -59,15 +71,15 @@ bool shading_changed(const glm::vec3& before, const glm::vec3& after, float thre
 
 }  // namespace
 
-uint8_t encode_srgb8_by_steps(float linear) {
+uint8_t encode_epi_color8_by_steps(float linear) {
   // steps[k]: the least float that encodes to k or more, by bisection over float bit patterns.
   static const std::array<float, 256> steps = [] {
     std::array<float, 256> t{};
     for (int k = 1; k < 256; ++k) {
-      uint32_t below = 0, at = std::bit_cast<uint32_t>(1.0f);  // encode_srgb8(0) = 0, encode_srgb8(1) = 255
+      uint32_t below = 0, at = std::bit_cast<uint32_t>(kEpiColourMax);  // encode(0) = 0, encode(kEpiColourMax) = 255
       while (at - below > 1) {
         const uint32_t mid = below + (at - below) / 2;
-        (encode_srgb8(std::bit_cast<float>(mid)) >= k ? at : below) = mid;
+        (encode_epi_color8(std::bit_cast<float>(mid)) >= k ? at : below) = mid;
       }
       t[size_t(k)] = std::bit_cast<float>(at);
     }
@@ -471,7 +483,7 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
     point.lobe_width = r.hit ? r.lobe_width : 0.0f;
     point.view = r.hit ? pack_unit(shot.eye() - r.position) : 0;
     point.epoch = epoch;
-    point.srgb = pack_srgb(point.color);
+    point.srgb = pack_srgb(point.color, point.view_dependent);
     point.valid = true;
     glm::vec3 world;
     if (r.hit && r.object < object_to_world.size()) {
@@ -513,7 +525,7 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
             cached.view_dependent += (point.view_dependent - cached.view_dependent) / n;
             cached.luminance_m2 += (luminance(point.color) - before) * (luminance(point.color) - luminance(cached.color));
             cached.count = uint16_t(std::min<int>(cached.count + 1, 0xffff));
-            cached.srgb = pack_srgb(cached.color);
+            cached.srgb = pack_srgb(cached.color, cached.view_dependent);
             cached.age = 0;
             ++refined_;
             ++inserted;
@@ -702,8 +714,8 @@ uint32_t PointCache::display_srgb(const CachePoint& p, bool by_steps) const {
   if (staleness <= settings_.view_fade_start) return p.srgb;
   const float fade = std::clamp((staleness - settings_.view_fade_start) /
                                     std::max(settings_.view_fade_end - settings_.view_fade_start, 1e-3f), 0.0f, 1.0f);
-  const glm::vec3 shown = p.color - p.view_dependent * fade;
-  return by_steps ? pack_srgb_by_steps(shown) : pack_srgb(shown);
+  const glm::vec3 shown = p.color - p.view_dependent * fade, shown_view = p.view_dependent * (1.0f - fade);
+  return by_steps ? pack_srgb_by_steps(shown, shown_view) : pack_srgb(shown, shown_view);
 }
 
 bool PointCache::shows_nothing(const CachePoint& p) const {

@@ -65,7 +65,7 @@ struct CachePoint {
   glm::vec3 local{0.0f};  // object space; for background (object == kNone) a world direction
   glm::vec3 color{0.0f};  // linear RGB (the mean of `count` results)
   glm::vec3 view_dependent{0.0f};  // of color, the part that depends on the eye (ShadeResult::view_dependent)
-  uint32_t srgb = 0;      // the colour as the EPI stores it (8-bit sRGB r, g, b), encoded once
+  uint32_t srgb = 0;      // the colour as the EPI stores it (encode_epi_color8 r, g, b), encoded once
   uint32_t object = kNone;
   uint32_t normal = 0;    // geometric normal in object space, octahedral 16:16 (0 for background)
   uint32_t view = 0;      // world direction from the point to the eye it was shaded from, octahedral
@@ -97,9 +97,16 @@ struct ProjectionCounts {
   size_t back_facing = 0;  // points in the image whose surface faces away from the eye (not drawn)
 };
 
-// encode_srgb8 (epi_pixel.h) without its pow: a search of the 255 steps' least floats, found
-// once with encode_srgb8 itself. Equal to it for every float (docs/performance.md, "Point processing").
-uint8_t encode_srgb8_by_steps(float linear);
+// The colour a point gives the EPI (docs/render.md, "Bright colours"): its view-independent part
+// (diffuse, emission) up to kEpiColourMax with its hue kept; the view-dependent part adds to it up
+// to 1 per channel (or the base's own level, if brighter) and no further: a highlight's peak is a
+// narrow lobe sampled about once per pixel, and above white, interpolated over the gaps between
+// points, it spread as blotches (chains at rest, display RMSE 0.031 -> 0.041 when it was kept).
+glm::vec3 epi_colour(const glm::vec3& color, const glm::vec3& view_dependent);
+
+// encode_epi_color8 (epi_pixel.h) without its pow and log: a search of the 255 steps' least floats,
+// found once with encode_epi_color8 itself. Equal to it for every float (docs/performance.md, "Point processing").
+uint8_t encode_epi_color8_by_steps(float linear);
 
 class PointCache {
  public:
@@ -167,7 +174,7 @@ class PointCache {
   static float view_share(const CachePoint& p);
   bool refines(const CachePoint& cached, const CachePoint& result) const;
   int priority_age(const CachePoint& p) const;
-  // srgb, less the view-dependent part as it goes stale; by_steps: encoded with encode_srgb8_by_steps
+  // srgb, less the view-dependent part as it goes stale; by_steps: encoded with encode_epi_color8_by_steps
   uint32_t display_srgb(const CachePoint& p, bool by_steps = false) const;
   bool shows_nothing(const CachePoint& p) const;  // stale and mostly view-dependent (view_drop_share)
   size_t take_slot();

@@ -3,6 +3,8 @@
 
 #include <array>
 #include <bit>
+#include <cmath>
+#include <limits>
 #include <cstring>
 #include <random>
 
@@ -427,6 +429,56 @@ TEST(Reconstruct, UniformColourIsReproducedEverywhere) {
       EXPECT_NEAR(r.image.pixels[i], expected[i % 3], 1e-6);      // and nothing else
     }
   }
+}
+
+// Lights seen directly are far brighter than 1 (the Cornell box's lamp: 17, 12, 4). The EPI's
+// colour codes above 1 are ratios, so a bright sample keeps its hue: clamped at 1 per channel it
+// showed white where the reference's tone map shows it warm (issue 9, docs/epi.md "Colour").
+TEST(Reconstruct, BrightColoursKeepTheirHue) {
+  Pattern p;
+  p.width = 13, p.height = 9;
+  p.background = {17.0f, 12.0f, 4.0f};
+  for (double d : {1.0, 0.3}) {
+    test::Built b = test::build(p, d, 3);
+    const Reconstruction r = reconstruct_tiled(b.epi, b.masks, {});
+    const Reconstruction oracle = reconstruct_oracle(b.epi, b.masks, {});
+    for (size_t i = 0; i < r.image.pixels.size(); ++i) {
+      EXPECT_NEAR(r.image.pixels[i] / p.background[i % 3], 1.0f, 0.07f) << i;
+      EXPECT_EQ(r.image.pixels[i], oracle.image.pixels[i]) << i;
+    }
+  }
+}
+
+float linear_to_srgb_display(float v) {
+  return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+// The code table: sRGB steps over [0, 1] (at most half a step off), ratio steps above 1 up to
+// kEpiColourMax (at most half a ratio step off), monotone, and every code its own encoding.
+TEST(EpiColour, FineStepsUpToOneAndRatioStepsAbove) {
+  const auto& table = epi_color8_to_linear();
+  for (int c = 0; c < 256; ++c) {
+    EXPECT_EQ(encode_epi_color8(table[size_t(c)]), c) << c;
+    if (c > 0) {
+      EXPECT_LT(table[size_t(c - 1)], table[size_t(c)]) << c;
+    }
+  }
+  EXPECT_EQ(table[0], 0.0f);
+  EXPECT_FLOAT_EQ(table[kEpiUnitCode], 1.0f);
+  EXPECT_NEAR(table[255], kEpiColourMax, 1e-3f * kEpiColourMax);
+  const float srgb_half_step = 0.5f / float(kEpiUnitCode) + 1e-6f;
+  for (int k = 0; k <= 10000; ++k) {
+    const float v = float(k) / 10000.0f;
+    EXPECT_NEAR(linear_to_srgb_display(table[encode_epi_color8(v)]), linear_to_srgb_display(v), srgb_half_step) << v;
+  }
+  const float ratio_half_step = std::pow(kEpiColourMax, 0.5f / float(255 - kEpiUnitCode));
+  for (float v = 1.0f; v <= kEpiColourMax; v *= 1.01f) {
+    const float back = table[encode_epi_color8(v)];
+    EXPECT_LE(std::max(back / v, v / back), ratio_half_step * 1.0001f) << v;
+  }
+  EXPECT_EQ(encode_epi_color8(1e9f), 255);
+  EXPECT_EQ(encode_epi_color8(-1.0f), 0);
+  EXPECT_EQ(encode_epi_color8(std::numeric_limits<float>::quiet_NaN()), 0);
 }
 
 TEST(Reconstruct, MismatchedSizesAreRejected) {

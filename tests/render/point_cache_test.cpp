@@ -305,7 +305,7 @@ TEST(PointCache, ViewDependentPointsGoStaleWithTheTurnOfTheViewAndDiffuseOnesDoN
     cache.fill_epi(epi);
     const uint32_t dc = epi.color[size_t(d.image_id)];
     EXPECT_EQ(sample_age(dc), 1);
-    EXPECT_EQ(dc & 0xffffffu, encode_srgb8(1.0f) * 0x010101u);
+    EXPECT_EQ(dc & 0xffffffu, encode_epi_color8(1.0f) * 0x010101u);
     if (float(g.staleness) / 16.0f >= settings.view_fade_end) {
       // 90 % view-dependent and past the fade: not shown at all (its pixel is reconstructed).
       EXPECT_FALSE(has_sample(epi.edge[size_t(g.image_id)])) << turn;
@@ -316,7 +316,7 @@ TEST(PointCache, ViewDependentPointsGoStaleWithTheTurnOfTheViewAndDiffuseOnesDoN
     EXPECT_GT(sample_age(gc), last_priority) << turn;  // rises with the turn
     last_priority = sample_age(gc);
     const float fade = std::clamp((staleness - settings.view_fade_start) / (settings.view_fade_end - settings.view_fade_start), 0.0f, 1.0f);
-    const float shown = srgb8_to_linear()[gc & 0xff];
+    const float shown = epi_color8_to_linear()[gc & 0xff];
     EXPECT_NEAR(shown, 1.0f - 0.9f * fade, 0.05f) << turn;  // staleness in 1/16 widths, colour in 8 bits
   }
 }
@@ -346,7 +346,7 @@ TEST(PointCache, StaleMostlyViewDependentPointsAreNotShownMostlyDiffuseOnesLoseT
   cache.fill_epi(epi);
   EXPECT_FALSE(has_sample(epi.edge[size_t(m.image_id)]));
   ASSERT_TRUE(has_sample(epi.edge[size_t(p.image_id)]));
-  EXPECT_NEAR(srgb8_to_linear()[epi.color[size_t(p.image_id)] & 0xff], 0.6f, 0.02f);  // diffuse part only
+  EXPECT_NEAR(epi_color8_to_linear()[epi.color[size_t(p.image_id)] & 0xff], 0.6f, 0.02f);  // diffuse part only
 
   // A lower threshold keeps the metal too (faded to its diffuse part).
   PointCacheSettings keep;
@@ -356,7 +356,7 @@ TEST(PointCache, StaleMostlyViewDependentPointsAreNotShownMostlyDiffuseOnesLoseT
   kept.project(now, kIdentity);
   kept.fill_epi(epi);
   ASSERT_TRUE(has_sample(epi.edge[size_t(kept.points()[0].image_id)]));
-  EXPECT_NEAR(srgb8_to_linear()[epi.color[size_t(kept.points()[0].image_id)] & 0xff], 0.2f, 0.02f);
+  EXPECT_NEAR(epi_color8_to_linear()[epi.color[size_t(kept.points()[0].image_id)] & 0xff], 0.2f, 0.02f);
 }
 
 // A point is shaded on the side of its surface that faced the eye; seen from the other side
