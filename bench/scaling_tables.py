@@ -142,6 +142,8 @@ def main():
         fig, ax = plt.subplots(figsize=(7, 4.5))
         top = 1
         for title, label, xs, ms in series:
+            if len(xs) < 2:
+                continue  # one core count: no line to draw
             speedup = [ms[0] * xs[0] / m for m in ms]  # relative to one thread, extrapolated from the first point
             ax.plot(xs, speedup, marker="o", label=f"{label}: {title}")
             top = max(top, max(xs))
