@@ -41,7 +41,7 @@ struct World {
         triangles.push_back(glm::dvec3(transform * glm::vec4(scene.meshes.back().positions[t[k]], 1.0f)));
         if (k == 0) triangle_object.push_back(uint32_t(scene.objects.size() - 1));
       }
-    Range r{begin, triangles.size(), glm::dvec3(0.0), 0.0};
+    Range r{begin, triangles.size(), glm::dvec3(0.0), 0.0, {}};
     for (size_t i = begin; i < r.end; ++i) r.centre += triangles[i] / double(r.end - begin);
     for (size_t i = begin; i < r.end; ++i) r.radius = std::max(r.radius, glm::length(triangles[i] - r.centre));
     for (size_t c = begin; c < r.end; c += 3 * kChunk) {
