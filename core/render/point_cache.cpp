@@ -190,12 +190,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
                                                 : view_staleness(p, frame.eye() - world);
         Projection proj;
         proj.depth = batch.depth[k], proj.pixel = glm::vec2(batch.pixel_x[k], batch.pixel_y[k]);
-        const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
-                            proj.pixel.x < float(w) && proj.pixel.y < float(h);
-        if (!inside) {
-          p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
-          p.image_id = -1;
-        }
+        const bool inside = in_view_or_penalised(p, proj, znear);
         if (p.age > max_age) {
           p.valid = false, p.image_id = -1;
           ++expired;
@@ -333,18 +328,29 @@ bool PointCache::drawn(size_t slot) const {
   return pixel >= 0 && image_.point[size_t(pixel)] == int32_t(slot);
 }
 
+bool PointCache::in_view_or_penalised(CachePoint& p, const Projection& proj, float znear) const {
+  const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
+                      proj.pixel.x < float(image_.width) && proj.pixel.y < float(image_.height);
+  if (!inside) {
+    p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
+    p.image_id = -1;
+  }
+  return inside;
+}
+
+// Near a silhouette or border the far side is visible: the depth cull's mean would remove it.
+bool PointCache::near_depth_edge(std::span<const uint8_t> edge_pixels, int x, int y) const {
+  if (edge_pixels.size() != image_.point.size()) return false;
+  const int w = image_.width, h = image_.height;
+  for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
+    for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx)
+      if (edge_pixels[image_.index(qx, qy)] & kDepthEdge) return true;
+  return false;
+}
+
 size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
   if (settings_.reference_path) return depth_cull_reference(edge_pixels);
   const int w = image_.width, h = image_.height;
-  const bool edges = edge_pixels.size() == image_.point.size();
-  // Near a silhouette or border the far side is visible: the mean would remove it.
-  auto protected_pixel = [&](int x, int y) {
-    if (!edges) return false;
-    for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
-      for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx)
-        if (edge_pixels[image_.index(qx, qy)] & kDepthEdge) return true;
-    return false;
-  };
   const float cull_scale = 1.0f + settings_.depth_cull_offset;
   // The 3x3 mean is at least the 3x3 minimum (also as rounded), so a pixel no deeper than the
   // minimum x (1 + offset) (most of them) keeps its point without the mean.
@@ -364,7 +370,7 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
             sum += image_.depth[q];
             ++n;
           }
-        if (image_.depth[i] > float(sum / n) * cull_scale && !protected_pixel(x, y)) culled.push_back(uint32_t(i));
+        if (image_.depth[i] > float(sum / n) * cull_scale && !near_depth_edge(edge_pixels, x, y)) culled.push_back(uint32_t(i));
   });
   return remove_listed();
 }

@@ -186,6 +186,11 @@ class PointCache {
   // The reference path (PointCacheSettings::reference_path).
   ProjectionCounts project_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull);
   size_t depth_cull_reference(std::span<const uint8_t> edge_pixels);
+  // Both paths: whether a projection lands in the image (in front of the near plane), ageing p by
+  // the off-screen penalty when it does not.
+  bool in_view_or_penalised(CachePoint& p, const Projection& proj, float znear) const;
+  // Both paths: whether (x, y) is within a pixel of a depth edge (the depth cull leaves it alone).
+  bool near_depth_edge(std::span<const uint8_t> edge_pixels, int x, int y) const;
   // The occlusion test of one drawn pixel (both paths; normal_to_world_ made for this frame).
   bool hidden_behind_a_neighbour(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                  const EdgeCrossings& crossings, int x, int y) const;

@@ -45,12 +45,7 @@ ProjectionCounts PointCache::project_reference(const ViewFrame& frame, std::span
           const glm::vec3 world = world_position(p, frame, object_to_world);
           p.staleness = view_staleness(p, frame.eye() - world);
           const Projection proj = frame.project(world);
-          const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
-                              proj.pixel.x < float(w) && proj.pixel.y < float(h);
-          if (!inside) {
-            p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
-            p.image_id = -1;
-          }
+          const bool inside = in_view_or_penalised(p, proj, znear);
           if (p.age > max_age) {
             p.valid = false, p.image_id = -1;
             ++c.expired;
@@ -114,15 +109,6 @@ ProjectionCounts PointCache::project_reference(const ViewFrame& frame, std::span
 
 size_t PointCache::depth_cull_reference(std::span<const uint8_t> edge_pixels) {
   const int w = image_.width, h = image_.height;
-  const bool edges = edge_pixels.size() == image_.point.size();
-  // Near a silhouette or border the far side is visible: the mean would remove it.
-  auto protected_pixel = [&](int x, int y) {
-    if (!edges) return false;
-    for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
-      for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx)
-        if (edge_pixels[image_.index(qx, qy)] & kDepthEdge) return true;
-    return false;
-  };
   const float cull_scale = 1.0f + settings_.depth_cull_offset;
   std::vector<uint8_t> cull(image_.point.size(), 0);
   const size_t culled = tbb::parallel_reduce(
@@ -131,7 +117,7 @@ size_t PointCache::depth_cull_reference(std::span<const uint8_t> edge_pixels) {
         for (int y = rows.begin(); y != rows.end(); ++y)
           for (int x = 0; x < w; ++x) {
             const size_t i = image_.index(x, y);
-            if (image_.point[i] < 0 || protected_pixel(x, y)) continue;
+            if (image_.point[i] < 0 || near_depth_edge(edge_pixels, x, y)) continue;
             double sum = 0.0;
             int n = 0;
             for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
