@@ -24,8 +24,9 @@ namespace hn = hwy::HWY_NAMESPACE;
 // Lanes x .. x + N - 1 from pointers already offset to x; `valid` lanes are counted.
 template <class DU>
 HWY_INLINE void ClassifyLanes(DU du, const ClassifyRow& row, const uint8_t* top, const uint8_t* bottom,
-                              const uint8_t* left, const uint8_t* right, const uint16_t* in, uint16_t* edge_out,
-                              uint8_t* types_out, size_t valid, int64_t counts[5]) {
+                              const uint8_t* left, const uint8_t* right, const uint8_t* centre_h,
+                              const uint8_t* centre_v, const uint16_t* in, uint16_t* edge_out, uint8_t* types_out,
+                              size_t valid, int64_t counts[5]) {
   using V = hn::Vec<DU>;
   const hn::Rebind<uint8_t, DU> d8;
   const hn::Rebind<uint16_t, DU> d16;
@@ -61,7 +62,15 @@ HWY_INLINE void ClassifyLanes(DU du, const ClassifyRow& row, const uint8_t* top,
     hi = hn::IfThenElse(present, hn::Max(hi, position), hi);
   }
   const auto empty = hn::Eq(hn::And(count, hn::Set(du, ~1u)), zero);  // count <= 1
-  const auto simple = hn::And(hn::Eq(count, hn::Set(du, 2u)), hn::Ne(one_per_side, zero));
+  auto simple = hn::And(hn::Eq(count, hn::Set(du, 2u)), hn::Ne(one_per_side, zero));
+  if (centre_h) {
+    // A centre-line crossing off the chord: a corner inside the pixel, complex.
+    const V chord_code = hn::IfThenElseZero(simple, hn::Or(hn::ShiftLeft<5>(lo), hi));
+    const V on_chord = hn::GatherIndex(du, row.centre_on_chord, hn::BitCast(di, chord_code));
+    const V off_chord = hn::Or(hn::AndNot(on_chord, hn::PromoteTo(du, hn::LoadU(d8, centre_h))),
+                               hn::AndNot(hn::ShiftRight<8>(on_chord), hn::PromoteTo(du, hn::LoadU(d8, centre_v))));
+    simple = hn::And(simple, hn::Eq(off_chord, zero));
+  }
   const auto complex = hn::AndNot(simple, hn::Not(empty));  // neither empty nor simple
   const V code = hn::IfThenElseZero(simple, hn::Or(hn::ShiftLeft<5>(lo), hi));
   const V region = hn::And(hn::ShiftRight<10>(in_edge), hn::Set(du, 15u));
@@ -96,20 +105,27 @@ inline void ClassifyRowKernel(ClassifyRow& row) {
   const hn::ScalableTag<uint32_t> du;
   const int n = int(hn::Lanes(du));
   int x = 0;
+  const bool centre = row.centre_h != nullptr;
   for (; x + n <= row.width; x += n)
-    ClassifyLanes(du, row, row.top + x, row.bottom + x, row.left + x, row.left + x + 1, row.in + x, row.edge + x,
+    ClassifyLanes(du, row, row.top + x, row.bottom + x, row.left + x, row.left + x + 1,
+                  centre ? row.centre_h + x : nullptr, centre ? row.centre_v + x : nullptr, row.in + x, row.edge + x,
                   row.types + x, size_t(n), row.counts);
   if (x == row.width) return;
   // The last, partial vector through zero-padded buffers.
   constexpr int kMax = HWY_LANES(uint32_t);
   const int rest = row.width - x;
-  uint8_t top[kMax] = {}, bottom[kMax] = {}, left[kMax + 1] = {}, types[kMax];
+  uint8_t top[kMax] = {}, bottom[kMax] = {}, left[kMax + 1] = {}, centre_h[kMax] = {}, centre_v[kMax] = {}, types[kMax];
   uint16_t in[kMax] = {}, edge[kMax];
   std::memcpy(top, row.top + x, size_t(rest));
   std::memcpy(bottom, row.bottom + x, size_t(rest));
   std::memcpy(left, row.left + x, size_t(rest) + 1);
+  if (centre) {
+    std::memcpy(centre_h, row.centre_h + x, size_t(rest));
+    std::memcpy(centre_v, row.centre_v + x, size_t(rest));
+  }
   std::memcpy(in, row.in + x, size_t(rest) * sizeof(uint16_t));
-  ClassifyLanes(du, row, top, bottom, left, left + 1, in, edge, types, size_t(rest), row.counts);
+  ClassifyLanes(du, row, top, bottom, left, left + 1, centre ? centre_h : nullptr, centre ? centre_v : nullptr, in,
+                edge, types, size_t(rest), row.counts);
   std::memcpy(row.edge + x, edge, size_t(rest) * sizeof(uint16_t));
   std::memcpy(row.types + x, types, size_t(rest));
 }

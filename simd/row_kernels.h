@@ -82,15 +82,19 @@ struct ReachRow {
 };
 // One row y of classification (classify.h: classify_pixel for each pixel). Boundary mask rows
 // (rasterize.h, width + 1 bytes each): `top` the tops of row y, `bottom` the tops of row y + 1,
-// `left` the left sides of row y (pixel x's right side is left[x + 1]).
+// `left` the left sides of row y (pixel x's right side is left[x + 1]); `centre_h`, `centre_v`
+// the centre lines of row y, nullptr when the masks have none.
 struct ClassifyRow {
   int width;
   const uint8_t* top;
   const uint8_t* bottom;
   const uint8_t* left;
+  const uint8_t* centre_h;
+  const uint8_t* centre_v;
   const uint16_t* in;          // the input edge words (sample bits)
   const uint32_t* sidedness;   // EpiTables::sidedness, 1024 entries
   const uint32_t* area;        // EpiTables::area_a widened to 32 bits, 1024 entries
+  const uint32_t* centre_on_chord;  // EpiTables::centre_on_chord widened to 32 bits, 1024 entries
   uint16_t* edge;              // out: classified edge words
   uint8_t* types;              // out: pixel types
   int64_t counts[5];           // added to: empty, simple, complex, samples, ambiguous

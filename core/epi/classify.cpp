@@ -12,7 +12,14 @@ PixelClass classify_pixel(const BoundaryMasks& masks, int x, int y, uint16_t edg
   uint8_t sides[4];
   masks.pixel_sides(x, y, sides);
   const bool no_crossing = (sides[0] | sides[1] | sides[2] | sides[3]) == 0;
-  const geom::CellClass c = no_crossing ? geom::CellClass{CellKind::empty, 0, 0} : geom::classify_cell(sides, 8);
+  geom::CellClass c = no_crossing ? geom::CellClass{CellKind::empty, 0, 0} : geom::classify_cell(sides, 8);
+  // Two crossings on different sides make a pixel simple, unless the centre lines (when
+  // recorded) show the edge leaving the chord between them: a corner inside the pixel.
+  if (c.kind == CellKind::simple && masks.centre_lines) {
+    const size_t i = masks.index(x, y);
+    const uint16_t on_chord = t.centre_on_chord[make_code(c.p_low, c.p_high)];
+    if ((masks.centre_h[i] & ~on_chord) | (masks.centre_v[i] & ~(on_chord >> 8))) c = {CellKind::complex, 0, 0};
+  }
   edge = uint16_t(edge & ~(bits::kCodeMask | bits::kUsable));
   int type = kTypeEmpty;
   const bool sample = edge & bits::kHasSample;

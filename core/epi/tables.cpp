@@ -79,8 +79,17 @@ int regions_on_side(int type, int side, int regions[2], int parts[2]) {
 EpiTables generate_tables() {
   EpiTables t{};
   for (int code = 0; code < kCodeCount; ++code) {
+    t.centre_on_chord[code] = 0xffff;
     if (!code_is_simple(code)) continue;
     const geom::CellEdge e = geom::cell_edge(code_low(code), code_high(code), 8);
+    uint16_t on_chord = 0;
+    const double length = std::hypot(e.b.x - e.a.x, e.b.y - e.a.y);
+    for (int m = 0; m < 8; ++m) {
+      const double along = (m + 0.5) / 8.0;
+      if (std::abs(geom::orient(e.a, e.b, {along, 0.5})) <= kChordTolerance * length) on_chord |= uint16_t(1u << m);
+      if (std::abs(geom::orient(e.a, e.b, {0.5, along})) <= kChordTolerance * length) on_chord |= uint16_t(1u << (8 + m));
+    }
+    t.centre_on_chord[code] = on_chord;
     for (int r = 0; r < 16; ++r) {
       const int side = geom::square_side(e, (r & 3) * 0.25, (r >> 2) * 0.25, 0.25);
       t.sidedness[code] |= uint32_t(side) << (2 * r);

@@ -30,6 +30,11 @@ struct EpiTables {
   uint8_t neighbour[4][256];
   // Chaining: [(a<->b) << 4 | (b<->d)] -> a<->d.
   uint8_t chain[256];
+  // Centre-line crossings that agree with a simple code's chord (docs/epi.md, "Corners"):
+  // bit m the 1/8 piece m of the line y = 1/2 (BoundaryMasks::centre_h), bit 8 + m of x = 1/2
+  // (centre_v); set when the piece's centre lies within kChordTolerance of the chord's line.
+  // 0xffff for codes that are not simple.
+  uint16_t centre_on_chord[1024];
 
   int side(int code, int region) const { return int(sidedness[code] >> (2 * region)) & 3; }
   float area_of_a(int code) const { return float(area_a[code]) * (1.0f / 65535.0f); }
@@ -37,6 +42,11 @@ struct EpiTables {
     return secondary_is_b ? secondary_neighbour[code] >> 4 : secondary_neighbour[code] & 15;
   }
 };
+// How far (in pixels) a recorded centre-line crossing may lie from a simple pixel's chord and
+// still belong to it: a straight edge's crossings lie within 1/16 of their pieces' centres, and
+// the chord within 1/16 of the edge, so 1/8 bounds one straight edge; 1/64 more for rounding.
+constexpr double kChordTolerance = 1.0 / 8.0 + 1.0 / 64.0;
+
 static_assert(sizeof(EpiTables) <= 16 * 1024, "the tables must stay under 16 KB");
 
 // Generated once, on first use (thread-safe).

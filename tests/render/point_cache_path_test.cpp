@@ -54,12 +54,12 @@ HiddenCount count_hidden(const FrameRenderer& renderer, const RayScene& ray_scen
 }
 
 HiddenCount run_path(const std::string& scene_name, int size, int frames, double budget, RenderMode mode,
-                     bool occlusion_test = true) {
+                     bool occlusion_test = true, uint64_t seed = 5) {
   const Scene scene = load_scene(std::string(EPI_SOURCE_DIR) + "/scenes/" + scene_name, LoadOptions{2});
   RayScene ray_scene(scene);
   const Shader shader(ray_scene, ShaderSettings{});
   FrameSettings s;
-  s.mode = mode, s.width = size, s.height = size, s.sync = true, s.sample_budget = budget, s.seed = 5;
+  s.mode = mode, s.width = size, s.height = size, s.sync = true, s.sample_budget = budget, s.seed = seed;
   s.occlusion_test = occlusion_test;
   FrameRenderer renderer(scene, ray_scene, shader, s);
   const CameraPath path = scene_camera_path(scene, frames);
@@ -88,13 +88,20 @@ TEST(PointCachePath, DrawnPointsAreTheNearestSurfaceAlongTheirRayAfterCameraMoti
 // The main job's defect (issue 9): the Cornell box along its path at the default 2 % budget showed
 // the back wall through the blocks and the background through the red wall. The EPI's occlusion
 // test (no geometric edge between a far point and a nearer point's plane: hidden) removes them.
+// Summed over three seeds: one seed's count of a dozen points moves by a third whenever the
+// sampling changes (seeds 1-7: 8-14 interior before the corner rule of classification, 11-18 after).
 TEST(PointCachePath, TheEpiShowsNoFarPointsThroughNearerSurfacesAfterCameraMotion) {
-  const HiddenCount without = run_path("cornell_box.gltf", 256, 60, 0.02, RenderMode::epi, false);
-  const HiddenCount with = run_path("cornell_box.gltf", 256, 60, 0.02, RenderMode::epi, true);
+  HiddenCount without, with;
+  for (uint64_t seed : {5, 6, 7}) {
+    const HiddenCount a = run_path("cornell_box.gltf", 256, 60, 0.02, RenderMode::epi, false, seed);
+    const HiddenCount b = run_path("cornell_box.gltf", 256, 60, 0.02, RenderMode::epi, true, seed);
+    without.drawn += a.drawn, without.hidden += a.hidden, without.interior += a.interior;
+    with.drawn += b.drawn, with.hidden += b.hidden, with.interior += b.interior;
+  }
   std::printf("cornell_box 256x256, 60 frames, budget 0.02, epi: hidden %zu of %zu drawn (%zu interior) without the "
               "occlusion test, %zu of %zu (%zu interior) with it\n",
               without.hidden, without.drawn, without.interior, with.hidden, with.drawn, with.interior);
-  ASSERT_GT(with.drawn, size_t(256 * 256 / 2));
+  ASSERT_GT(with.drawn, size_t(3 * 256 * 256 / 2));
   EXPECT_GT(without.interior, 5 * std::max<size_t>(with.interior, 1));
   EXPECT_LT(double(with.interior) / double(with.drawn), 0.0005);
 }
