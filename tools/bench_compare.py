@@ -1,15 +1,16 @@
 #!/usr/bin/env python3
 """Compare two sets of Google Benchmark JSON runs (e.g. a base and a changed binary, run
 alternately on a loaded machine): the best (minimum) real time per benchmark in each set and
-their ratio, as a Markdown table.
+their ratio, as a Markdown table. `--time cpu` compares CPU times instead (the benchmark
+thread's: on a loaded machine the fairer figure for one-thread runs).
 
-  tools/bench_compare.py --base base-*.json --new new-*.json
+  tools/bench_compare.py --base base-*.json --new new-*.json [--time cpu]
 """
 import argparse
 import json
 
 
-def best_times(files):
+def best_times(files, field):
     best = {}
     for name in files:
         with open(name) as f:
@@ -17,7 +18,7 @@ def best_times(files):
                 if b.get("run_type") == "aggregate":
                     continue
                 key = b["run_name"] if "run_name" in b else b["name"]
-                t = b["real_time"]
+                t = b[field]
                 best[key] = min(best.get(key, t), t)
                 unit = b.get("time_unit", "ns")
     return best, unit
@@ -27,10 +28,12 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--base", nargs="+", required=True)
     parser.add_argument("--new", nargs="+", required=True)
+    parser.add_argument("--time", choices=["real", "cpu"], default="real")
     args = parser.parse_args()
-    base, unit = best_times(args.base)
-    new, _ = best_times(args.new)
-    print(f"| benchmark | base ({unit}) | new ({unit}) | new / base |")
+    field = args.time + "_time"
+    base, unit = best_times(args.base, field)
+    new, _ = best_times(args.new, field)
+    print(f"| benchmark | base ({args.time}, {unit}) | new ({args.time}, {unit}) | new / base |")
     print("|---|---|---|---|")
     for key in base:
         if key in new:

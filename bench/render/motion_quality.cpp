@@ -1,5 +1,5 @@
 // The image a user sees while moving (issue 9, docs/render.md "Quality in motion"): each bundled
-// scene along its camera path (sync, fixed seed), its last frame against a converged reference of
+// scene along its camera path (sync, fixed seed: --seed, default 5), its last frame against a converged reference of
 // that view, beside the same frame count with the camera held at that view and beside the render
 // cache along the path. Display-space RMSE and the share of pixels off by more than 0.1 and 0.2
 // (max over channels), and where the large errors come from, pixel by pixel:
@@ -9,7 +9,7 @@
 //   other     no point drawn, none hidden near (reconstruction, holes)
 // With --out, each run also writes RUN_causes.png: pixels off by more than 0.1 coloured by cause
 // (hidden red, colour yellow, near hidden magenta, other blue) over the dimmed frame.
-// Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--out DIR] SCENE.gltf...
+// Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--out DIR] SCENE.gltf...
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -43,13 +43,14 @@ struct Run {
 struct Options {
   int size = 256, frames = 60, spp = 64;
   double budget = 0.02;
+  uint64_t seed = 5;
   std::string out;
 };
 
 Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Options& o, bool still, RenderMode mode,
         const RgbImage& reference, const std::string& image_file) {
   FrameSettings s;
-  s.mode = mode, s.width = o.size, s.height = o.size, s.sync = true, s.sample_budget = o.budget, s.seed = 5;
+  s.mode = mode, s.width = o.size, s.height = o.size, s.sync = true, s.sample_budget = o.budget, s.seed = o.seed;
   FrameRenderer renderer(scene, ray_scene, shader, s);
   const CameraPath path = scene_camera_path(scene, o.frames);
   const Camera last = path.camera_at(o.frames - 1);
@@ -131,16 +132,17 @@ int run_all(int argc, char** argv) {
     else if (a == "--budget") o.budget = std::stod(value());
     else if (a == "--spp") o.spp = std::stoi(value());
     else if (a == "--out") o.out = value();
+    else if (a == "--seed") o.seed = std::stoull(value());
     else if (a.starts_with("-")) o.size = 0;  // unknown option (also --help): the usage line below
     else scenes.push_back(a);
   }
   if (scenes.empty() || o.size < 8 || o.frames < 1 || !(o.budget > 0.0 && o.budget <= 1.0)) {
-    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--out DIR] SCENE.gltf...\n");
+    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--out DIR] SCENE.gltf...\n");
     return 2;
   }
   if (!o.out.empty()) std::filesystem::create_directories(o.out);
-  std::printf("%dx%d, %d frames along the path, sync, budget %.3f, direct shader, reference %d spp\n", o.size, o.size,
-              o.frames, o.budget, o.spp);
+  std::printf("%dx%d, %d frames along the path, sync, budget %.3f, seed %llu, direct shader, reference %d spp\n", o.size,
+              o.size, o.frames, o.budget, (unsigned long long)o.seed, o.spp);
   std::printf("| scene | run | RMSE | > 0.1 | > 0.2 | hidden | colour | near hidden | other |\n|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& file : scenes) {
     const Scene scene = load_scene(file);

@@ -10,47 +10,80 @@
 
 namespace epi::render {
 
+namespace {
+
+// The row loops of filter_depth, with restrict pointers so that the compiler vectorizes them.
+// A drawn pixel's depth, -inf where empty (or NaN), and 1 / 0 for drawn / empty.
+void masked_row(const int32_t* __restrict point, const float* __restrict depth, float* __restrict masked,
+                uint8_t* __restrict drawn_flags, int w) {
+  const float empty = -std::numeric_limits<float>::infinity();
+  for (int x = 0; x < w; ++x) {
+    const bool drawn = point[x] >= 0;
+    masked[x] = drawn & (depth[x] == depth[x]) ? depth[x] : empty;
+    drawn_flags[x] = uint8_t(drawn);
+  }
+}
+// Maximum and sum over x-1..x+2 of rows padded by one element before and two after.
+void window4_row(const float* __restrict masked, const uint8_t* __restrict drawn_flags, float* __restrict m,
+                 uint8_t* __restrict n, int w) {
+  for (int x = 0; x < w; ++x) {
+    m[x] = std::max(std::max(masked[x - 1], masked[x]), std::max(masked[x + 1], masked[x + 2]));
+    n[x] = uint8_t(drawn_flags[x - 1] + drawn_flags[x] + drawn_flags[x + 1] + drawn_flags[x + 2]);
+  }
+}
+// Rows y-1..y+2 of the window maxima and counts to the filtered depth.
+void filtered_row(const float* __restrict m0, const float* __restrict m1, const float* __restrict m2,
+                  const float* __restrict m3, const uint8_t* __restrict n0, const uint8_t* __restrict n1,
+                  const uint8_t* __restrict n2, const uint8_t* __restrict n3, float base, float sparse,
+                  float* __restrict out, int w) {
+  const float inf = std::numeric_limits<float>::infinity();
+  for (int x = 0; x < w; ++x) {
+    const float m = std::max(std::max(m0[x], m1[x]), std::max(m2[x], m3[x]));
+    const int n = n0[x] + n1[x] + n2[x] + n3[x];
+    out[x] = n == 0 ? inf : m * (base + sparse * (float(16 - n) / 16.0f));
+  }
+}
+
+}  // namespace
+
 void filter_depth(const PointImage& points, const DepthFilterSettings& settings, std::vector<float>& out) {
   const int w = points.width, h = points.height;
   const float inf = std::numeric_limits<float>::infinity();
   out.resize(size_t(w) * size_t(h));
   // Bands of rows: the max depth and point count over x-1..x+2 of the rows y0-1..y1+1, kept in
   // the band's own rows (ring of 4), then columns over y-1..y+2. Same arithmetic as row-then-column
-  // over the whole image: max and integer counts do not depend on the grouping.
+  // over the whole image: max and integer counts do not depend on the grouping. No branch per
+  // pixel (empty and drawn pixels alternate at random, so a branch on "drawn" mispredicts): each
+  // row is first made into padded planes, -inf and 0 where empty and beyond the border, whose
+  // window maxima and sums the compiler vectorizes. A NaN depth counts as a point but, as in
+  // std::max folded from -inf, never becomes the maximum.
   constexpr int kBand = 16;
   tbb::parallel_for(tbb::blocked_range<int>(0, (h + kBand - 1) / kBand, 1), [&](const tbb::blocked_range<int>& r) {
-    thread_local std::vector<float> ring_max;
-    thread_local std::vector<uint8_t> ring_count;
-    ring_max.resize(4 * size_t(w)), ring_count.resize(4 * size_t(w));
+    thread_local std::vector<float> ring_max, padded_depth;
+    thread_local std::vector<uint8_t> ring_count, padded_count;
+    ring_max.resize(5 * size_t(w)), ring_count.resize(5 * size_t(w));
+    padded_depth.assign(size_t(w) + 3, -inf), padded_count.assign(size_t(w) + 3, 0);
+    // Slot 4 of the ring: the rows outside the image.
+    std::fill_n(ring_max.data() + 4 * size_t(w), w, -inf);
+    std::fill_n(ring_count.data() + 4 * size_t(w), w, uint8_t(0));
     auto row_of = [&](int y) {  // fills the ring's slot of row y (y in [0, h))
-      float* m_row = ring_max.data() + size_t(y & 3) * size_t(w);
-      uint8_t* n_row = ring_count.data() + size_t(y & 3) * size_t(w);
-      for (int x = 0; x < w; ++x) {
-        float m = -inf;
-        int n = 0;
-        for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 2); ++qx) {
-          const size_t q = points.index(qx, y);
-          if (points.point[q] < 0) continue;
-          m = std::max(m, points.depth[q]), ++n;
-        }
-        m_row[x] = m, n_row[x] = uint8_t(n);
-      }
+      // Element x + 1 of the padded rows is pixel x; elements 0, w + 1 and w + 2 stay empty.
+      masked_row(points.point.data() + points.index(0, y), points.depth.data() + points.index(0, y),
+                 padded_depth.data() + 1, padded_count.data() + 1, w);
+      window4_row(padded_depth.data() + 1, padded_count.data() + 1, ring_max.data() + size_t(y & 3) * size_t(w),
+                  ring_count.data() + size_t(y & 3) * size_t(w), w);
     };
+    auto slot = [&](int y) { return size_t(y >= 0 && y < h ? (y & 3) : 4) * size_t(w); };
     for (int band = r.begin(); band != r.end(); ++band) {
       const int y0 = band * kBand, y1 = std::min(h, y0 + kBand);
       for (int y = std::max(0, y0 - 1); y < std::min(h, y0 + 2); ++y) row_of(y);
       for (int y = y0; y < y1; ++y) {
         if (y + 2 < h) row_of(y + 2);  // rows y-1..y+2 are in the ring
-        float* o = out.data() + size_t(y) * size_t(w);
-        for (int x = 0; x < w; ++x) {
-          float m = -inf;
-          int n = 0;
-          for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 2); ++qy) {
-            const size_t q = size_t(qy & 3) * size_t(w) + size_t(x);
-            m = std::max(m, ring_max[q]), n += ring_count[q];
-          }
-          o[x] = n == 0 ? inf : m * (1.0f + settings.base_offset + settings.sparse_offset * (float(16 - n) / 16.0f));
-        }
+        const float* m = ring_max.data();
+        const uint8_t* n = ring_count.data();
+        filtered_row(m + slot(y - 1), m + slot(y), m + slot(y + 1), m + slot(y + 2), n + slot(y - 1), n + slot(y),
+                     n + slot(y + 1), n + slot(y + 2), 1.0f + settings.base_offset, settings.sparse_offset,
+                     out.data() + size_t(y) * size_t(w), w);
       }
     }
   });
