@@ -120,6 +120,34 @@ TEST_P(Kernels, EdgesAlongPixelBorders) {
   for (double d : {0.1, 0.6, 1.0}) expect_equal_all_settings(test::build(p, d, 6), "borders, density " + std::to_string(d));
 }
 
+// Sharp wedges (thin triangles 3-12 pixels long): their tips lie inside pixels whose two
+// crossings alone would make them simple; the centre lines make many of them complex
+// (docs/epi.md, "Corners"), in the kernel as in the oracle.
+TEST_P(Kernels, CornersInsidePixelsEqualTheOracle) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  Pattern p;
+  p.width = 67, p.height = 29;
+  p.background = {0.1f, 0.1f, 0.1f};
+  for (int i = 0; i < 40; ++i) {
+    const double tx = 2 + u(rng) * 63, ty = 2 + u(rng) * 25, a = 6.283185307179586 * u(rng), len = 3 + 9 * u(rng);
+    const double spread = 0.3 + 0.6 * u(rng);  // the tip's angle, radians
+    p.polygons.push_back({{float(u(rng)), float(u(rng)), 17.0f * float(u(rng))},
+                          {{tx, ty},
+                           {tx + len * std::cos(a - spread / 2), ty + len * std::sin(a - spread / 2)},
+                           {tx + len * std::cos(a + spread / 2), ty + len * std::sin(a + spread / 2)}}});
+  }
+  for (double d : {0.2, 0.7}) {
+    const test::Built b = test::build(p, d, 8);
+    int corners = 0;
+    for (int y = 0; y < p.height; ++y)
+      for (int x = 0; x < p.width; ++x)
+        corners += test::kind_of(b.masks, x, y) == CellKind::simple && classify_pixel(b.masks, x, y, 0).kind == CellKind::complex;
+    ASSERT_GT(corners, 10);
+    expect_equal_all_settings(b, "corners, density " + std::to_string(d));
+  }
+}
+
 std::string target_name(const testing::TestParamInfo<int64_t>& info) { return hwy::TargetName(info.param); }
 INSTANTIATE_TEST_SUITE_P(EveryTarget, Kernels, testing::ValuesIn(simd::compiled_targets()), target_name);
 
