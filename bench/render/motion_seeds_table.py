@@ -1,0 +1,46 @@
+#!/usr/bin/env python3
+"""The "epi, path" rows of render_motion_quality runs over several seeds (docs/render.md), before
+and after a change: mean and range of the RMSE per scene, their ratio, and the mean share of
+pixels off by more than 0.2, as a Markdown table. Each input line is one table row as the
+program prints it (optionally after a label and a seed).
+
+  bench/render/motion_seeds_table.py BEFORE.txt AFTER.txt
+"""
+import collections
+import re
+import sys
+
+ROW = re.compile(r"\| (\S+) \| epi, path \| ([\d.]+) \| [\d.]+ % \| ([\d.]+) %")
+
+
+def load(name):
+    rows = collections.defaultdict(list)
+    with open(name) as f:
+        for line in f:
+            m = ROW.search(line)
+            if m:
+                rows[m.group(1)].append((float(m.group(2)), float(m.group(3))))
+    return rows
+
+
+def mean(values):
+    return sum(values) / len(values)
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit(__doc__)
+    before, after = load(sys.argv[1]), load(sys.argv[2])
+    print("| scene | seeds | RMSE before (mean, range) | RMSE after (mean, range) | after / before | > 0.2 before | > 0.2 after |")
+    print("|---|---|---|---|---|---|---|")
+    for scene in sorted(before):
+        if scene not in after:
+            continue
+        rb, ra = [r for r, _ in before[scene]], [r for r, _ in after[scene]]
+        ob, oa = [o for _, o in before[scene]], [o for _, o in after[scene]]
+        print(f"| {scene} | {len(rb)} | {mean(rb):.4f} ({min(rb):.4f}-{max(rb):.4f}) | {mean(ra):.4f} "
+              f"({min(ra):.4f}-{max(ra):.4f}) | {mean(ra) / mean(rb):.3f} | {mean(ob):.2f} % | {mean(oa):.2f} % |")
+
+
+if __name__ == "__main__":
+    main()
