@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <functional>
@@ -158,8 +159,13 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
       double sum = 0.0;
       size_t count = 0;
       const float far = cache_.background_depth() * 0.5f;
-      for (size_t i = size_t(b) * kDepthRows * size_t(w), end = std::min(depths.size(), i + kDepthRows * size_t(w)); i < end; ++i)
-        if (std::isfinite(depths[i]) && depths[i] < far) sum += depths[i], ++count;
+      // No branch: drawn and empty pixels alternate at random. An empty or far pixel adds +0 (its
+      // bits masked off), which changes no sum (GCC turns a `? :` here back into a branch).
+      for (size_t i = size_t(b) * kDepthRows * size_t(w), end = std::min(depths.size(), i + kDepthRows * size_t(w)); i < end; ++i) {
+        const bool near = std::isfinite(depths[i]) & (depths[i] < far);
+        sum += double(std::bit_cast<float>(std::bit_cast<uint32_t>(depths[i]) & (0u - uint32_t(near))));
+        count += near;
+      }
       depth_sums_[size_t(b)] = {sum, count};
     });
     double depth_sum = 0.0;
@@ -194,7 +200,7 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
       size_t count = 0;
       for (int x = 0; x < w; ++x) {
         const size_t i = size_t(y) * size_t(w) + size_t(x);
-        const bool gap = !gaps[i] && unseen_[size_t(y / kBlock) * size_t(bw) + size_t(x / kBlock)];
+        const bool gap = !gaps[i] & (unseen_[size_t(y / kBlock) * size_t(bw) + size_t(x / kBlock)] != 0);
         gaps[i] = gap, count += gap;
       }
       gap_rows_[size_t(y) + 1] = count;
@@ -401,8 +407,8 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
         tbb::blocked_range<size_t>(0, n, 1 << 14), size_t(0),
         [&](const tbb::blocked_range<size_t>& r, size_t count) {
           for (size_t i = r.begin(); i != r.end(); ++i) {
-            const bool hole = reconstruction_.priority[i] >= kMaxPriority && rgb[3 * i] == 0.0f && rgb[3 * i + 1] == 0.0f &&
-                              rgb[3 * i + 2] == 0.0f;
+            const bool hole = (reconstruction_.priority[i] >= kMaxPriority) & (rgb[3 * i] == 0.0f) &
+                              (rgb[3 * i + 1] == 0.0f) & (rgb[3 * i + 2] == 0.0f);
             holes_[i] = hole, count += hole;
             barrier_[i] = (edge_pixels_[i] & (kDepthEdge | kSharpEdge)) != 0;
           }
