@@ -249,16 +249,21 @@ class Builder {
       std::string caption;
       const int count = std::popcount(unsigned(t_.sides[0])) + std::popcount(unsigned(t_.sides[1])) +
                         std::popcount(unsigned(t_.sides[2])) + std::popcount(unsigned(t_.sides[3]));
+      // Complex although its crossings alone make one edge: the centre lines showed a corner.
+      const bool corner = t_.kind == CellKind::complex && geom::classify_cell(t_.sides, 8).kind == CellKind::simple;
       if (t_.kind == CellKind::simple)
         caption = "Two crossings on different sides make one edge, coded in 10 bits as its two boundary positions "
                   "(5 bits each): code = " + std::to_string(t_.p_low) + " << 5 | " + std::to_string(t_.p_high) + ".";
       else if (t_.kind == CellKind::empty)
         caption = count == 0 ? "No crossing on any side: the pixel's code is 0 (empty)."
                              : "A single crossing (an edge ending inside) cannot split the pixel: code 0 (empty).";
+      else if (corner)
+        caption = "Two crossings on different sides, but the centre lines show the edge leaving their chord by more "
+                  "than 1/8 pixel: a corner inside the pixel, not one straight edge: code 1 (complex).";
       else
         caption = std::to_string(count) + " crossings (or two on one side) cannot be one straight edge: code 1 (complex).";
       Step& s = add(2, "4.2 Edge representation", caption);
-      s.view.radius = 1, s.view.samples = false, s.view.crossings = 1, s.view.reconstructed_edges = true;
+      s.view.radius = 1, s.view.samples = false, s.view.crossings = corner ? 2 : 1, s.view.reconstructed_edges = true;
       s.values["crossings"] = count;
       s.values["edge code"] = t_.code;
       s.values["code bits"] = bits_of(unsigned(t_.code), 10);
@@ -299,7 +304,7 @@ class Builder {
     {
       Step& s = add(3, "4.1 Pixel classification",
                     "Every pixel is classified from its crossings: empty (white), simple (green: one edge spanning it) "
-                    "or complex (pink: anything else).");
+                    "or complex (pink: anything else, and a corner the centre lines show).");
       s.view.classes = true, s.view.crossings = 1, s.view.samples = false, s.view.reconstructed_edges = true;
       s.values["empty"] = counts[0], s.values["simple"] = counts[1], s.values["complex"] = counts[2];
     }

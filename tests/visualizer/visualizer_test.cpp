@@ -84,6 +84,25 @@ TEST(Steps, EveryStageHasStepsForEveryPixelClass) {
   EXPECT_GE(checked, 30);  // the presets hold pixels of all three classes
 }
 
+// The Cornell lamp's corner (docs/render.md, "Bright colours"): two crossings on different
+// sides, complex because the centre lines show the corner; the step says so and shows them.
+TEST(Steps, ACornerPixelSaysWhyItIsComplex) {
+  Pattern p;
+  p.width = 16, p.height = 10;
+  p.background = {0.1f, 0.1f, 0.1f};
+  p.polygons.push_back({{17.0f, 12.0f, 4.0f}, {{4.494, 2.038}, {16.0, 2.038}, {16.0, 9.0}, {6.0, 9.0}}});
+  const Model model(pattern_source(p, "lamp corner", 0.5, 3));
+  ASSERT_EQ(model.type_at(4, 2), kTypeComplex);
+  bool said = false;
+  for (const Step& s : build_steps(model, model.tracer().trace(4, 2)))
+    if (s.section == "4.2 Edge representation" && s.values.contains("edge code")) {
+      EXPECT_NE(s.caption.find("corner"), std::string::npos) << s.caption;
+      EXPECT_EQ(s.view.crossings, 2);  // with the centre lines
+      said = true;
+    }
+  EXPECT_TRUE(said);
+}
+
 TEST(Steps, BackThenForwardGivesIdenticalFrames) {
   const Preset& preset = *find_preset("checkerboard");
   const Model model(pattern_source(preset.pattern, preset.name, 0.25, 1));
