@@ -277,7 +277,8 @@ TEST(Predict, OccupancyFindsTheGapsAboutToOpen) {
 }
 
 // The batched projection (project_batch) against the straightforward splat of every point, for
-// random clouds on moving objects and random cameras; the two halves of stride 2 make up stride 1.
+// random clouds on moving objects and random cameras; the two halves of stride 2 make up stride 1,
+// and so do the three thirds of stride 3.
 TEST(Predict, OccupancyEqualsTheStraightforwardSplat) {
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
@@ -318,6 +319,13 @@ TEST(Predict, OccupancyEqualsTheStraightforwardSplat) {
       const std::vector<uint8_t> odd = predicted_occupancy(cache, ahead, transforms, 2, 1, splat);
       for (size_t i = 0; i < both.size(); ++i) both[i] |= odd[i];
       EXPECT_EQ(both, expected) << w << "x" << h << " splat " << splat;
+      // A stride that is not a power of two (the division, not the mask): three thirds.
+      std::vector<uint8_t> thirds(expected.size(), 0);
+      for (int phase = 0; phase < 3; ++phase) {
+        const std::vector<uint8_t> third = predicted_occupancy(cache, ahead, transforms, 3, phase, splat);
+        for (size_t i = 0; i < thirds.size(); ++i) thirds[i] |= third[i];
+      }
+      EXPECT_EQ(thirds, expected) << w << "x" << h << " splat " << splat;
       EXPECT_GT(std::count(expected.begin(), expected.end(), 1), 0);
     }
   }

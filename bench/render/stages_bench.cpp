@@ -1,0 +1,107 @@
+// Frame-loop stages outside the point cache and the reconstruction, on synthetic inputs (issue 11;
+// docs/performance.md, "Edge stage" and "Predictive sampling"):
+//   BM_FilterDepth          the edge stage's depth filter over a random point image, `empty` percent
+//                           of its pixels without a point (drawn and empty pixels alternate at
+//                           random, as in a frame's point image). args: width, height, empty %, threads.
+//   BM_PredictedOccupancy   predictive sampling's splat of 1/stride of a cloud of 1.15 points per
+//                           pixel into the view a few frames ahead. args: width, height, stride, threads.
+//   render_stages_bench --benchmark_format=json > stages.json
+// Against an earlier build: run its binary on the same arguments one after the other.
+#include <limits>
+#include <map>
+#include <memory>
+#include <random>
+
+#include <benchmark/benchmark.h>
+#include <tbb/global_control.h>
+
+#include "render/edge_projection.h"
+#include "render/sampling.h"
+
+namespace epi::render {
+namespace {
+
+PointImage random_point_image(int w, int h, double empty, uint32_t seed) {
+  PointImage image;
+  image.width = w, image.height = h;
+  const size_t n = size_t(w) * size_t(h);
+  image.point.resize(n), image.depth.resize(n), image.region.assign(n, 0);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> depth(0.5f, 20.0f), u(0.0f, 1.0f);
+  for (size_t i = 0; i < n; ++i) {
+    const bool drawn = u(rng) >= empty;
+    image.point[i] = drawn ? int32_t(i) : -1;
+    image.depth[i] = drawn ? depth(rng) : std::numeric_limits<float>::infinity();
+  }
+  return image;
+}
+
+void BM_FilterDepth(benchmark::State& state) {
+  const int w = int(state.range(0)), h = int(state.range(1));
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, size_t(state.range(3)));
+  const PointImage image = random_point_image(w, h, double(state.range(2)) / 100.0, 7);
+  std::vector<float> out;
+  filter_depth(image, DepthFilterSettings{}, out);  // sized once, as in the frame loop
+  for (auto _ : state) {
+    filter_depth(image, DepthFilterSettings{}, out);
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(w) * int64_t(h));  // pixels per second
+}
+BENCHMARK(BM_FilterDepth)
+    ->ArgsProduct({{512}, {512}, {10, 50}, {1, 2}})
+    ->ArgsProduct({{1920}, {1080}, {10, 50}, {1, 2}})
+    ->ArgsProduct({{3840}, {2160}, {10, 50}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+// A cloud of 1.15 points per pixel on three objects in front of the camera, as insert leaves it.
+struct Cloud {
+  Cloud(int w, int h) : cache(w, h), transforms(3, glm::mat4(1.0f)) {
+    view.camera.eye = {0, 0, 6}, view.camera.target = {0, 0, 0}, view.width = w, view.height = h;
+    const ViewFrame shot(view);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+    ShadeBatch batch;
+    for (size_t k = 0; k < size_t(1.15 * w * h); ++k) {
+      ShadeResult r;
+      r.x = (u(rng) * 0.5f + 0.5f) * float(w), r.y = (u(rng) * 0.5f + 0.5f) * float(h);
+      r.hit = true, r.object = uint32_t(k % 3);
+      r.position = {2.0f * u(rng), 2.0f * u(rng), u(rng)};
+      r.normal = {0, 0, 1};
+      batch.results.push_back(r);
+    }
+    cache.insert(shot, batch, transforms);
+    ahead = view;
+    ahead.camera.eye = {0.4f, 0.1f, 5.5f};
+  }
+  PointCache cache;
+  std::vector<glm::mat4> transforms;
+  View view, ahead;
+};
+
+void BM_PredictedOccupancy(benchmark::State& state) {
+  const int w = int(state.range(0)), h = int(state.range(1));
+  static std::map<std::pair<int, int>, std::unique_ptr<Cloud>> clouds;  // one per size, built once
+  auto& cloud = clouds[{w, h}];
+  if (!cloud) cloud = std::make_unique<Cloud>(w, h);
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, size_t(state.range(3)));
+  const ViewFrame ahead(cloud->ahead);
+  std::vector<uint8_t> occupied;
+  int phase = 0;
+  for (auto _ : state) {
+    predicted_occupancy(cloud->cache, ahead, cloud->transforms, int(state.range(2)), phase++, 3, occupied);
+    benchmark::DoNotOptimize(occupied.data());
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(cloud->cache.points().size()));  // slots per second
+}
+BENCHMARK(BM_PredictedOccupancy)
+    ->ArgsProduct({{512}, {512}, {2}, {1, 2}})
+    ->ArgsProduct({{1920}, {1080}, {1, 2, 3}, {1, 2}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+}  // namespace
+}  // namespace epi::render
+
+BENCHMARK_MAIN();
