@@ -19,7 +19,7 @@ void masked_row(const int32_t* __restrict point, const float* __restrict depth, 
   const float empty = -std::numeric_limits<float>::infinity();
   for (int x = 0; x < w; ++x) {
     const bool drawn = point[x] >= 0;
-    masked[x] = drawn & (depth[x] == depth[x]) ? depth[x] : empty;
+    masked[x] = (drawn & (depth[x] == depth[x])) ? depth[x] : empty;
     drawn_flags[x] = uint8_t(drawn);
   }
 }

@@ -162,7 +162,7 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
       // No branch: drawn and empty pixels alternate at random. An empty or far pixel adds +0 (its
       // bits masked off), which changes no sum (GCC turns a `? :` here back into a branch).
       for (size_t i = size_t(b) * kDepthRows * size_t(w), end = std::min(depths.size(), i + kDepthRows * size_t(w)); i < end; ++i) {
-        const bool near = std::isfinite(depths[i]) & (depths[i] < far);
+        const bool near = int(std::isfinite(depths[i])) & int(depths[i] < far);
         sum += double(std::bit_cast<float>(std::bit_cast<uint32_t>(depths[i]) & (0u - uint32_t(near))));
         count += near;
       }
@@ -200,7 +200,7 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
       size_t count = 0;
       for (int x = 0; x < w; ++x) {
         const size_t i = size_t(y) * size_t(w) + size_t(x);
-        const bool gap = !gaps[i] & (unseen_[size_t(y / kBlock) * size_t(bw) + size_t(x / kBlock)] != 0);
+        const bool gap = int(gaps[i] == 0) & int(unseen_[size_t(y / kBlock) * size_t(bw) + size_t(x / kBlock)] != 0);
         gaps[i] = gap, count += gap;
       }
       gap_rows_[size_t(y) + 1] = count;
