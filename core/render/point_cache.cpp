@@ -96,6 +96,7 @@ PointCache::PointCache(int width, int height, const PointCacheSettings& settings
   const double capacity = std::ceil(double(width) * double(height) * std::max(1.0, settings.capacity_factor));
   if (capacity > double(kIndexMask)) throw std::invalid_argument("point cache: image too large");
   points_.resize(size_t(capacity));
+  colours_.resize(size_t(capacity));
   free_slots_.reserve(points_.size());
   for (size_t i = points_.size(); i-- > 0;) free_slots_.push_back(uint32_t(i));
   const size_t pixels = size_t(width) * size_t(height);
@@ -116,17 +117,32 @@ glm::vec3 PointCache::world_position(const CachePoint& p, const ViewFrame& frame
   return glm::vec3(object_to_world[p.object] * glm::vec4(p.local, 1.0f));
 }
 
-float PointCache::view_share(const CachePoint& p) {
-  const float total = luminance(p.color);
-  return total > 0.0f ? std::clamp(luminance(p.view_dependent) / total, 0.0f, 1.0f) : 0.0f;
+PointCache::ColourTerms PointCache::colour_terms(const PointColour& c) const {
+  const float total = luminance(c.color);
+  const float share = total > 0.0f ? std::clamp(luminance(c.view_dependent) / total, 0.0f, 1.0f) : 0.0f;
+  // Sampling priority: relative standard error of the mean luminance, from the spread of the
+  // results averaged so far (a single result: single_sample_error), over single_sample_error.
+  float error = settings_.single_sample_error;
+  if (c.count >= 2) {
+    const float n = float(c.count);
+    error = std::sqrt(std::max(c.luminance_m2, 0.0f) / (n * (n - 1.0f))) / (luminance(c.color) + 0.02f);
+  }
+  const float factor = settings_.single_sample_error > 0.0f ? std::clamp(error / settings_.single_sample_error, 0.25f, 4.0f) : 1.0f;
+  return {share, factor};
 }
 
-bool PointCache::view_dependent(const CachePoint& p) {
-  return p.lobe_width > 0.0f && p.object != kNone && view_share(p) > 0.0f;
+void PointCache::update_from_colour(CachePoint& p, const PointColour& c) const {
+  p.srgb = pack_srgb(c.color, c.view_dependent);
+  const ColourTerms terms = colour_terms(c);
+  p.view_share = terms.view_share, p.priority_factor = terms.priority_factor;
 }
 
-uint8_t PointCache::view_staleness(const CachePoint& p, const glm::vec3& to_eye) const {
-  if (!view_dependent(p)) return 0;
+bool PointCache::view_dependent(const CachePoint& p, float view_share) {
+  return p.lobe_width > 0.0f && p.object != kNone && view_share > 0.0f;
+}
+
+uint8_t PointCache::view_staleness(const CachePoint& p, float view_share, const glm::vec3& to_eye) const {
+  if (!view_dependent(p, view_share)) return 0;
   const float length = glm::length(to_eye);
   if (!(length > 0.0f)) return 0;
   return staleness_steps(std::clamp(glm::dot(to_eye / length, unpack_unit(p.view)), -1.0f, 1.0f),
@@ -185,9 +201,9 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
           continue;
         }
         const glm::vec3 world(batch.x[k], batch.y[k], batch.z[k]);
-        p.staleness = !view_dependent(p) ? uint8_t(0)
-                      : batch.staleness[k] >= 0 ? uint8_t(batch.staleness[k])
-                                                : view_staleness(p, frame.eye() - world);
+        p.staleness = !view_dependent(p, p.view_share) ? uint8_t(0)
+                      : batch.staleness[k] >= 0                ? uint8_t(batch.staleness[k])
+                                                               : view_staleness(p, p.view_share, frame.eye() - world);
         Projection proj;
         proj.depth = batch.depth[k], proj.pixel = glm::vec2(batch.pixel_x[k], batch.pixel_y[k]);
         const bool inside = in_view_or_penalised(p, proj, znear);
@@ -209,8 +225,8 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
         p.image_id = int32_t(uint32_t(py) * uint32_t(w) + uint32_t(px));
         const uint32_t tile = uint32_t(py / kTileSize) * uint32_t(tiles_x) + uint32_t(px / kTileSize);
-        projected_[i] = {zkey(proj.depth, rx + 4 * ry, uint32_t(i)), epi_color_word(p),
-                         uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p) ? kShowsNothing : 0)),
+        projected_[i] = {zkey(proj.depth, rx + 4 * ry, uint32_t(i)), epi_color_word(i),
+                         uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p, p.view_share) ? kShowsNothing : 0)),
                          uint16_t(py % kTileSize * kTileSize + px % kTileSize)};
         point_tile_[i] = tile;
         ++block.tile_count[tile];
@@ -484,12 +500,13 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
   size_t inserted = 0;
   for (const ShadeResult& r : batch.results) {
     CachePoint point;
-    point.color = glm::max(r.color, glm::vec3(0.0f));
-    point.view_dependent = glm::clamp(r.view_dependent, glm::vec3(0.0f), point.color);
+    PointColour colour;
+    colour.color = glm::max(r.color, glm::vec3(0.0f));
+    colour.view_dependent = glm::clamp(r.view_dependent, glm::vec3(0.0f), colour.color);
+    colour.epoch = epoch;
+    update_from_colour(point, colour);
     point.lobe_width = r.hit ? r.lobe_width : 0.0f;
     point.view = r.hit ? pack_unit(shot.eye() - r.position) : 0;
-    point.epoch = epoch;
-    point.srgb = pack_srgb(point.color, point.view_dependent);
     point.valid = true;
     glm::vec3 world;
     if (r.hit && r.object < object_to_world.size()) {
@@ -521,24 +538,24 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
             (point.object == kNone || std::abs(image_.depth[image_.index(px, py)] - proj.depth) <= 0.05f * proj.depth)) {
           replace = old;
           CachePoint& cached = points_[size_t(old)];
+          PointColour& stats = colours_[size_t(old)];
           const size_t pixel = image_.index(px, py);
-          if ((no_refine_.size() != image_.point.size() || !no_refine_[pixel]) && refines(cached, point)) {
+          if ((no_refine_.size() != image_.point.size() || !no_refine_[pixel]) && refines(cached, stats, point, colour)) {
             // The same surface point under the same placement: one more sample of the same
             // quantity. A running mean (Welford for the luminance's variance), not a replacement.
-            const float n = float(cached.count) + 1.0f;
-            const float before = luminance(cached.color);
-            cached.color += (point.color - cached.color) / n;
-            cached.view_dependent += (point.view_dependent - cached.view_dependent) / n;
-            cached.luminance_m2 += (luminance(point.color) - before) * (luminance(point.color) - luminance(cached.color));
-            cached.count = uint16_t(std::min<int>(cached.count + 1, 0xffff));
-            cached.srgb = pack_srgb(cached.color, cached.view_dependent);
+            const float n = float(stats.count) + 1.0f;
+            const float before = luminance(stats.color);
+            stats.color += (colour.color - stats.color) / n;
+            stats.view_dependent += (colour.view_dependent - stats.view_dependent) / n;
+            stats.luminance_m2 += (luminance(colour.color) - before) * (luminance(colour.color) - luminance(stats.color));
+            stats.count = uint16_t(std::min<int>(stats.count + 1, 0xffff));
+            update_from_colour(cached, stats);
             cached.age = 0;
             ++refined_;
             ++inserted;
             continue;
           }
-          if (cached.epoch != point.epoch &&
-              shading_changed(cached.color, point.color, settings_.change_threshold)) {
+          if (stats.epoch != colour.epoch && shading_changed(stats.color, colour.color, settings_.change_threshold)) {
             const int r0 = settings_.change_radius;
             for (int qy = std::max(0, py - r0); qy <= std::min(h - 1, py + r0); ++qy)
               for (int qx = std::max(0, px - r0); qx <= std::min(w - 1, px + r0); ++qx) {
@@ -569,18 +586,23 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
         }
       }
     }
-    points_[replace >= 0 ? size_t(replace) : take_slot()] = point;
+    const size_t slot = replace >= 0 ? size_t(replace) : take_slot();
+    points_[slot] = point, colours_[slot] = colour;
     ++inserted;
   }
   return inserted;
 }
 
-bool PointCache::refines(const CachePoint& cached, const CachePoint& result) const {
-  if (!settings_.refine || cached.epoch != result.epoch || cached.object != result.object || result.object == kNone) return false;
-  if (cached.count == 0xffff) return false;
+bool PointCache::refines(const CachePoint& cached, const PointColour& cached_colour, const CachePoint& result,
+                         const PointColour& result_colour) const {
+  if (!settings_.refine || cached_colour.epoch != result_colour.epoch || cached.object != result.object ||
+      result.object == kNone)
+    return false;
+  if (cached_colour.count == 0xffff) return false;
   // View-dependent shading is one quantity only from about the same direction.
-  const float total = luminance(result.color) + luminance(cached.color);
-  const float share = total > 0.0f ? (luminance(result.view_dependent) + luminance(cached.view_dependent)) / total : 0.0f;
+  const float total = luminance(result_colour.color) + luminance(cached_colour.color);
+  const float share =
+      total > 0.0f ? (luminance(result_colour.view_dependent) + luminance(cached_colour.view_dependent)) / total : 0.0f;
   if (share > 0.05f && result.lobe_width > 0.0f) {
     const float turned = std::acos(std::clamp(glm::dot(unpack_unit(cached.view), unpack_unit(result.view)), -1.0f, 1.0f));
     if (turned > 0.1f * std::max(result.lobe_width, kMinLobeWidth)) return false;
@@ -715,31 +737,25 @@ size_t PointCache::remove_listed() {
   return removed;
 }
 
-uint32_t PointCache::display_srgb(const CachePoint& p, bool by_steps) const {
+uint32_t PointCache::display_srgb(const CachePoint& p, const PointColour& c, bool by_steps) const {
   const float staleness = float(p.staleness) / 16.0f;
   if (staleness <= settings_.view_fade_start) return p.srgb;
   const float fade = std::clamp((staleness - settings_.view_fade_start) /
                                     std::max(settings_.view_fade_end - settings_.view_fade_start, 1e-3f), 0.0f, 1.0f);
-  const glm::vec3 shown = p.color - p.view_dependent * fade, shown_view = p.view_dependent * (1.0f - fade);
+  const glm::vec3 shown = c.color - c.view_dependent * fade, shown_view = c.view_dependent * (1.0f - fade);
   return by_steps ? pack_srgb_by_steps(shown, shown_view) : pack_srgb(shown, shown_view);
 }
 
-bool PointCache::shows_nothing(const CachePoint& p) const {
-  return float(p.staleness) / 16.0f >= settings_.view_fade_end && view_share(p) > settings_.view_drop_share;
+bool PointCache::shows_nothing(const CachePoint& p, float view_share) const {
+  return float(p.staleness) / 16.0f >= settings_.view_fade_end && view_share > settings_.view_drop_share;
 }
 
-int PointCache::priority_age(const CachePoint& p) const {
+int PointCache::priority_age(const CachePoint& p, ColourTerms terms) const {
   // The EPI's age byte drives sampling priority (age / 16): points whose mean is still uncertain
-  // ask for samples sooner. Relative standard error of the mean luminance, from the spread of the
-  // results averaged so far (a single result: single_sample_error).
-  float error = settings_.single_sample_error;
-  if (p.count >= 2) {
-    const float n = float(p.count);
-    error = std::sqrt(std::max(p.luminance_m2, 0.0f) / (n * (n - 1.0f))) / (luminance(p.color) + 0.02f);
-  }
+  // ask for samples sooner (colour_terms).
   if (p.object == kNone || settings_.single_sample_error <= 0.0f) return p.age;  // the background is exact
-  const float view = settings_.view_priority * view_share(p) * float(p.staleness) / 16.0f;
-  return int(std::lround(std::min(float(p.age) * std::clamp(error / settings_.single_sample_error, 0.25f, 4.0f) + view, 1e4f)));
+  const float view = settings_.view_priority * terms.view_share * float(p.staleness) / 16.0f;
+  return int(std::lround(std::min(float(p.age) * terms.priority_factor + view, 1e4f)));
 }
 
 void PointCache::fill_epi(EpiImage& epi) const {
@@ -757,19 +773,20 @@ void PointCache::fill_epi(EpiImage& epi) const {
     }
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const int32_t p = image_.point[i];
-      if (p < 0 || shows_nothing(points_[size_t(p)])) {
+      if (p < 0 || shows_nothing(points_[size_t(p)], points_[size_t(p)].view_share)) {
         epi.edge[i] = 0;
         epi.color[i] = 0;
         continue;
       }
       epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
-      epi.color[i] = epi_color_word(points_[size_t(p)]);
+      epi.color[i] = epi_color_word(size_t(p));
     }
   });
 }
 
-uint32_t PointCache::epi_color_word(const CachePoint& p) const {
-  return display_srgb(p, true) | uint32_t(std::min<int>(priority_age(p), 255)) << bits::kAgeShift;
+uint32_t PointCache::epi_color_word(size_t slot) const {
+  const CachePoint& p = points_[slot];
+  return display_srgb(p, colours_[slot], true) | uint32_t(std::min<int>(priority_age(p, stored_terms(p)), 255)) << bits::kAgeShift;
 }
 
 }  // namespace epi::render
