@@ -174,22 +174,25 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     size_t projected = 0, expired = 0, back_facing_points = 0;
     block.free.clear();
     block.tile_count.assign(tiles, 0);
-    // In batches: the ages and world positions (scalar), then the projections and the
-    // staleness (project_batch, vectors), then the rest (scalar).
+    // In batches: the ages and world positions (scalar), then the projections, the staleness
+    // and the back-face test (project_batch, vectors), then the rest (scalar).
     ProjectionBatch batch;
     for (size_t first = b * kPointBlock, block_end = std::min(n, first + kPointBlock); first < block_end;
          first += ProjectionBatch::kSize) {
       const size_t count = std::min(ProjectionBatch::kSize, block_end - first);
       for (size_t k = 0; k < ProjectionBatch::kSize; ++k) {
-        glm::vec3 world(0.0f);
-        batch.view[k] = 0, batch.lobe_width[k] = 1.0f;
+        glm::vec3 world(0.0f), to_eye(0.0f);
+        batch.view[k] = 0, batch.lobe_width[k] = 1.0f, batch.normal[k] = 0;
         if (k < count && points_[first + k].valid) {
           CachePoint& p = points_[first + k];
           p.age = uint16_t(std::min(p.age + 1, 0xffff));
           world = world_position(p, frame, object_to_world);
           batch.view[k] = p.view, batch.lobe_width[k] = std::max(p.lobe_width, kMinLobeWidth);
+          if (p.object != kNone && p.object < eye_local_.size())  // back_facing's test
+            batch.normal[k] = p.normal, to_eye = eye_local_[p.object] - p.local;
         }
         batch.x[k] = world.x, batch.y[k] = world.y, batch.z[k] = world.z;
+        batch.eye_x[k] = to_eye.x, batch.eye_y[k] = to_eye.y, batch.eye_z[k] = to_eye.z;
       }
       project_batch(frame, batch, count);
       for (size_t k = 0; k < count; ++k) {
@@ -215,7 +218,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         }
         ++ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
         if (!inside) continue;
-        if (back_facing(p)) {
+        if (batch.back_facing[k]) {
           p.image_id = -1;
           ++back_facing_points;
           continue;
@@ -341,8 +344,8 @@ void PointCache::count_drawn(size_t tile, int x0, int y0, int x1, int y1) {
 bool PointCache::back_facing(const CachePoint& p) const {
   // The stored normal faces the eye the point was shaded from; seen from the other side of its
   // surface, the point is either hidden (closed surfaces) or shows the other side's shading.
-  if (p.object == kNone || p.object >= eye_local_.size() || p.normal == 0) return false;
-  return glm::dot(unpack_unit(p.normal), eye_local_[p.object] - p.local) < 0.0f;
+  if (p.object == kNone || p.object >= eye_local_.size()) return false;
+  return faces_away(p.normal, eye_local_[p.object] - p.local);
 }
 
 bool PointCache::drawn(size_t slot) const {
