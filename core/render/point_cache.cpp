@@ -297,17 +297,27 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       zbuffer[r.tile_pixel] = nearer ? r.key : zbuffer[r.tile_pixel];
       winner[r.tile_pixel] = nearer ? k : winner[r.tile_pixel];
     }
-    // Unpacked without branches; an empty pixel keeps its region and colour word (not read).
+    // Unpacked without branches (selects by masks: the compiler made a branch of the selects,
+    // mispredicted where drawn and empty pixels alternate), through local pointers (the region's
+    // byte stores would otherwise reload every member); an empty pixel keeps its region, and
+    // its colour word is not read.
+    const ProjectedPoint* const records = binned_.empty() ? &kNoRecord : binned_.data();
+    int32_t *const point = image_.point.data(), *const winners = winners_.data();
+    float* const depth = image_.depth.data();
+    uint32_t* const words = pixel_word_.data();
+    uint8_t* const region = image_.region.data();
+    uint16_t* const age_bins = pixel_age_bin_.data();
+    constexpr uint32_t kInfinity = 0x7f800000u;  // the depth of an empty pixel
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) {
         const size_t i = image_.index(x, y), local = size_t(y - y0) * kTileSize + size_t(x - x0);
         const uint64_t key = zbuffer[local];
-        const bool empty = key == kEmptyKey;
-        const ProjectedPoint& won = binned_.empty() ? kNoRecord : binned_[winner[local]];
-        winners_[i] = image_.point[i] = empty ? -1 : int32_t(uint32_t(key) & kIndexMask);
-        image_.depth[i] = empty ? std::numeric_limits<float>::infinity() : std::bit_cast<float>(uint32_t(key >> 32));
-        image_.region[i] = empty ? image_.region[i] : uint8_t((uint32_t(key) >> 28) & 15);
-        pixel_word_[i] = won.word, pixel_age_bin_[i] = won.age_bin;
+        const uint32_t empty = uint32_t(0) - uint32_t(key == kEmptyKey);  // all ones when empty
+        const ProjectedPoint& won = records[winner[local]];
+        winners[i] = point[i] = int32_t((uint32_t(key) & kIndexMask) | empty);
+        depth[i] = std::bit_cast<float>((uint32_t(key >> 32) & ~empty) | (kInfinity & empty));
+        region[i] = uint8_t((((uint32_t(key) >> 28) & 15) & ~empty) | (region[i] & empty));
+        words[i] = won.word, age_bins[i] = won.age_bin;
       }
     if (!depth_cull) count_drawn(t, x0, y0, x1, y1);
   });
