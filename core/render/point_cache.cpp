@@ -794,11 +794,17 @@ void PointCache::fill_epi(EpiImage& epi) const {
   if (epi.width != image_.width || epi.height != image_.height)
     throw std::invalid_argument("point cache: EPI size differs from the cache's image size");
   tbb::parallel_for(tbb::blocked_range<size_t>(0, image_.point.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
-    if (pixel_words_current_) {  // a copy, without branches (drawn and empty pixels alternate at random)
+    if (pixel_words_current_) {  // a copy, masked without branches (drawn and empty pixels alternate at random)
+      const int32_t* const point = image_.point.data();
+      const uint16_t* const age_bins = pixel_age_bin_.data();
+      const uint8_t* const region = image_.region.data();
+      const uint32_t* const words = pixel_word_.data();
+      uint16_t* const edge = epi.edge.data();
+      uint32_t* const color = epi.color.data();
       for (size_t i = r.begin(); i != r.end(); ++i) {
-        const bool shown = int(image_.point[i] >= 0) & int((pixel_age_bin_[i] & kShowsNothing) == 0);
-        epi.edge[i] = shown ? uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample) : uint16_t(0);
-        epi.color[i] = shown ? pixel_word_[i] : 0u;
+        const uint32_t shown = uint32_t(0) - (uint32_t(point[i] >= 0) & uint32_t((age_bins[i] & kShowsNothing) == 0));
+        edge[i] = uint16_t((uint32_t(region[i]) << bits::kRegionShift | bits::kHasSample) & shown);
+        color[i] = words[i] & shown;
       }
       return;
     }
