@@ -72,22 +72,37 @@ bool shading_changed(const glm::vec3& before, const glm::vec3& after, float thre
 }  // namespace
 
 uint8_t encode_epi_color8_by_steps(float linear) {
-  // steps[k]: the least float that encodes to k or more, by bisection over float bit patterns.
-  static const std::array<float, 256> steps = [] {
-    std::array<float, 256> t{};
+  // steps[k]: the least float that encodes to k or more, by bisection over float bit patterns (a
+  // NaN after the last ends the scan below). start[b]: the code of the least float of bucket b,
+  // the floats sharing their top 16 bits (128 buckets per octave) from steps[1]'s bucket up to
+  // kEpiColourMax's: a lower bound for every float of the bucket, a step or so below its code.
+  struct Tables {
+    std::array<float, 257> steps{};
+    uint32_t first = 0;
+    std::vector<uint8_t> start;
+  };
+  static const Tables t = [] {
+    Tables t;
     for (int k = 1; k < 256; ++k) {
       uint32_t below = 0, at = std::bit_cast<uint32_t>(kEpiColourMax);  // encode(0) = 0, encode(kEpiColourMax) = 255
       while (at - below > 1) {
         const uint32_t mid = below + (at - below) / 2;
         (encode_epi_color8(std::bit_cast<float>(mid)) >= k ? at : below) = mid;
       }
-      t[size_t(k)] = std::bit_cast<float>(at);
+      t.steps[size_t(k)] = std::bit_cast<float>(at);
+    }
+    t.steps[256] = std::numeric_limits<float>::quiet_NaN();
+    t.first = std::bit_cast<uint32_t>(t.steps[1]) >> 16;
+    for (uint32_t b = t.first; b <= std::bit_cast<uint32_t>(kEpiColourMax) >> 16; ++b) {
+      const float least = std::bit_cast<float>(b << 16);
+      t.start.push_back(uint8_t(std::count_if(t.steps.begin() + 1, t.steps.end() - 1, [&](float s) { return s <= least; })));
     }
     return t;
   }();
-  int k = 0;
-  for (int step = 128; step >= 1; step >>= 1)
-    if (steps[size_t(k + step)] <= linear) k += step;
+  if (!(linear >= t.steps[1])) return 0;  // below the first step, negative, NaN
+  const uint32_t bucket = std::min((std::bit_cast<uint32_t>(linear) >> 16) - t.first, uint32_t(t.start.size() - 1));
+  size_t k = t.start[bucket];
+  while (t.steps[k + 1] <= linear) ++k;
   return uint8_t(k);
 }
 

@@ -116,8 +116,9 @@ struct ProjectionCounts {
 // points, it spread as blotches (chains at rest, display RMSE 0.031 -> 0.041 when it was kept).
 glm::vec3 epi_colour(const glm::vec3& color, const glm::vec3& view_dependent);
 
-// encode_epi_color8 (epi_pixel.h) without its pow and log: a search of the 255 steps' least floats,
-// found once with encode_epi_color8 itself. Equal to it for every float (docs/performance.md, "Point processing").
+// encode_epi_color8 (epi_pixel.h) without its pow and log: the 255 steps' least floats, found once
+// with encode_epi_color8 itself, scanned from a lower bound looked up by the float's top 16 bits.
+// Equal to it for every float (docs/performance.md, "Point processing").
 uint8_t encode_epi_color8_by_steps(float linear);
 
 class PointCache {
