@@ -72,22 +72,37 @@ bool shading_changed(const glm::vec3& before, const glm::vec3& after, float thre
 }  // namespace
 
 uint8_t encode_epi_color8_by_steps(float linear) {
-  // steps[k]: the least float that encodes to k or more, by bisection over float bit patterns.
-  static const std::array<float, 256> steps = [] {
-    std::array<float, 256> t{};
+  // steps[k]: the least float that encodes to k or more, by bisection over float bit patterns (a
+  // NaN after the last ends the scan below). start[b]: the code of the least float of bucket b,
+  // the floats sharing their top 16 bits (128 buckets per octave) from steps[1]'s bucket up to
+  // kEpiColourMax's: a lower bound for every float of the bucket, a step or so below its code.
+  struct Tables {
+    std::array<float, 257> steps{};
+    uint32_t first = 0;
+    std::vector<uint8_t> start;
+  };
+  static const Tables t = [] {
+    Tables t;
     for (int k = 1; k < 256; ++k) {
       uint32_t below = 0, at = std::bit_cast<uint32_t>(kEpiColourMax);  // encode(0) = 0, encode(kEpiColourMax) = 255
       while (at - below > 1) {
         const uint32_t mid = below + (at - below) / 2;
         (encode_epi_color8(std::bit_cast<float>(mid)) >= k ? at : below) = mid;
       }
-      t[size_t(k)] = std::bit_cast<float>(at);
+      t.steps[size_t(k)] = std::bit_cast<float>(at);
+    }
+    t.steps[256] = std::numeric_limits<float>::quiet_NaN();
+    t.first = std::bit_cast<uint32_t>(t.steps[1]) >> 16;
+    for (uint32_t b = t.first; b <= std::bit_cast<uint32_t>(kEpiColourMax) >> 16; ++b) {
+      const float least = std::bit_cast<float>(b << 16);
+      t.start.push_back(uint8_t(std::count_if(t.steps.begin() + 1, t.steps.end() - 1, [&](float s) { return s <= least; })));
     }
     return t;
   }();
-  int k = 0;
-  for (int step = 128; step >= 1; step >>= 1)
-    if (steps[size_t(k + step)] <= linear) k += step;
+  if (!(linear >= t.steps[1])) return 0;  // below the first step, negative, NaN
+  const uint32_t bucket = std::min((std::bit_cast<uint32_t>(linear) >> 16) - t.first, uint32_t(t.start.size() - 1));
+  size_t k = t.start[bucket];
+  while (t.steps[k + 1] <= linear) ++k;
   return uint8_t(k);
 }
 
@@ -96,6 +111,7 @@ PointCache::PointCache(int width, int height, const PointCacheSettings& settings
   const double capacity = std::ceil(double(width) * double(height) * std::max(1.0, settings.capacity_factor));
   if (capacity > double(kIndexMask)) throw std::invalid_argument("point cache: image too large");
   points_.resize(size_t(capacity));
+  colours_.resize(size_t(capacity));
   free_slots_.reserve(points_.size());
   for (size_t i = points_.size(); i-- > 0;) free_slots_.push_back(uint32_t(i));
   const size_t pixels = size_t(width) * size_t(height);
@@ -116,17 +132,32 @@ glm::vec3 PointCache::world_position(const CachePoint& p, const ViewFrame& frame
   return glm::vec3(object_to_world[p.object] * glm::vec4(p.local, 1.0f));
 }
 
-float PointCache::view_share(const CachePoint& p) {
-  const float total = luminance(p.color);
-  return total > 0.0f ? std::clamp(luminance(p.view_dependent) / total, 0.0f, 1.0f) : 0.0f;
+PointCache::ColourTerms PointCache::colour_terms(const PointColour& c) const {
+  const float total = luminance(c.color);
+  const float share = total > 0.0f ? std::clamp(luminance(c.view_dependent) / total, 0.0f, 1.0f) : 0.0f;
+  // Sampling priority: relative standard error of the mean luminance, from the spread of the
+  // results averaged so far (a single result: single_sample_error), over single_sample_error.
+  float error = settings_.single_sample_error;
+  if (c.count >= 2) {
+    const float n = float(c.count);
+    error = std::sqrt(std::max(c.luminance_m2, 0.0f) / (n * (n - 1.0f))) / (luminance(c.color) + 0.02f);
+  }
+  const float factor = settings_.single_sample_error > 0.0f ? std::clamp(error / settings_.single_sample_error, 0.25f, 4.0f) : 1.0f;
+  return {share, factor};
 }
 
-bool PointCache::view_dependent(const CachePoint& p) {
-  return p.lobe_width > 0.0f && p.object != kNone && view_share(p) > 0.0f;
+void PointCache::update_from_colour(CachePoint& p, const PointColour& c) const {
+  p.srgb = pack_srgb(c.color, c.view_dependent);
+  const ColourTerms terms = colour_terms(c);
+  p.view_share = terms.view_share, p.priority_factor = terms.priority_factor;
 }
 
-uint8_t PointCache::view_staleness(const CachePoint& p, const glm::vec3& to_eye) const {
-  if (!view_dependent(p)) return 0;
+bool PointCache::view_dependent(const CachePoint& p, float view_share) {
+  return p.lobe_width > 0.0f && p.object != kNone && view_share > 0.0f;
+}
+
+uint8_t PointCache::view_staleness(const CachePoint& p, float view_share, const glm::vec3& to_eye) const {
+  if (!view_dependent(p, view_share)) return 0;
   const float length = glm::length(to_eye);
   if (!(length > 0.0f)) return 0;
   return staleness_steps(std::clamp(glm::dot(to_eye / length, unpack_unit(p.view)), -1.0f, 1.0f),
@@ -158,48 +189,56 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     size_t projected = 0, expired = 0, back_facing_points = 0;
     block.free.clear();
     block.tile_count.assign(tiles, 0);
-    // In batches: the ages and world positions (scalar), then the projections and the
-    // staleness (project_batch, vectors), then the rest (scalar).
+    // In batches: the valid points' slots gathered, their ages and world positions (scalar), then
+    // the projections, the staleness and the back-face test (project_batch, vectors), then the
+    // rest (scalar), then the free slots listed. Valid and free slots alternate at random: the
+    // gathering and the listing are branch-free, and the passes between see valid points only.
     ProjectionBatch batch;
+    std::array<uint32_t, ProjectionBatch::kSize> slots;
     for (size_t first = b * kPointBlock, block_end = std::min(n, first + kPointBlock); first < block_end;
          first += ProjectionBatch::kSize) {
       const size_t count = std::min(ProjectionBatch::kSize, block_end - first);
+      size_t valid = 0;
+      for (size_t k = 0; k < count; ++k) {
+        // Two batches ahead (the hardware prefetch did not keep this stream ahead: 5 % of the projection)
+        __builtin_prefetch(&points_[std::min(first + k + 2 * ProjectionBatch::kSize, n - 1)], 1);
+        slots[valid] = uint32_t(first + k);
+        valid += size_t(points_[first + k].valid);
+        point_tile_[first + k] = kNoTile;
+      }
       for (size_t k = 0; k < ProjectionBatch::kSize; ++k) {
-        glm::vec3 world(0.0f);
-        batch.view[k] = 0, batch.lobe_width[k] = 1.0f;
-        if (k < count && points_[first + k].valid) {
-          CachePoint& p = points_[first + k];
+        glm::vec3 world(0.0f), to_eye(0.0f);
+        batch.view[k] = 0, batch.lobe_width[k] = 1.0f, batch.normal[k] = 0;
+        if (k < valid) {
+          CachePoint& p = points_[slots[k]];
           p.age = uint16_t(std::min(p.age + 1, 0xffff));
           world = world_position(p, frame, object_to_world);
           batch.view[k] = p.view, batch.lobe_width[k] = std::max(p.lobe_width, kMinLobeWidth);
+          if (p.object != kNone && p.object < eye_local_.size())  // back_facing's test
+            batch.normal[k] = p.normal, to_eye = eye_local_[p.object] - p.local;
         }
         batch.x[k] = world.x, batch.y[k] = world.y, batch.z[k] = world.z;
+        batch.eye_x[k] = to_eye.x, batch.eye_y[k] = to_eye.y, batch.eye_z[k] = to_eye.z;
       }
-      project_batch(frame, batch, count);
-      for (size_t k = 0; k < count; ++k) {
-        const size_t i = first + k;
+      project_batch(frame, batch, valid);
+      for (size_t k = 0; k < valid; ++k) {
+        const size_t i = slots[k];
         CachePoint& p = points_[i];
-        point_tile_[i] = kNoTile;
-        if (!p.valid) {
-          block.free.push_back(uint32_t(i));
-          continue;
-        }
         const glm::vec3 world(batch.x[k], batch.y[k], batch.z[k]);
-        p.staleness = !view_dependent(p) ? uint8_t(0)
-                      : batch.staleness[k] >= 0 ? uint8_t(batch.staleness[k])
-                                                : view_staleness(p, frame.eye() - world);
+        p.staleness = !view_dependent(p, p.view_share) ? uint8_t(0)
+                      : batch.staleness[k] >= 0                ? uint8_t(batch.staleness[k])
+                                                               : view_staleness(p, p.view_share, frame.eye() - world);
         Projection proj;
         proj.depth = batch.depth[k], proj.pixel = glm::vec2(batch.pixel_x[k], batch.pixel_y[k]);
         const bool inside = in_view_or_penalised(p, proj, znear);
         if (p.age > max_age) {
           p.valid = false, p.image_id = -1;
           ++expired;
-          block.free.push_back(uint32_t(i));
           continue;
         }
         ++ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
         if (!inside) continue;
-        if (back_facing(p)) {
+        if (batch.back_facing[k]) {
           p.image_id = -1;
           ++back_facing_points;
           continue;
@@ -209,13 +248,20 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
         p.image_id = int32_t(uint32_t(py) * uint32_t(w) + uint32_t(px));
         const uint32_t tile = uint32_t(py / kTileSize) * uint32_t(tiles_x) + uint32_t(px / kTileSize);
-        projected_[i] = {zkey(proj.depth, rx + 4 * ry, uint32_t(i)), epi_color_word(p),
-                         uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p) ? kShowsNothing : 0)),
+        projected_[i] = {zkey(proj.depth, rx + 4 * ry, uint32_t(i)), epi_color_word(i),
+                         uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p, p.view_share) ? kShowsNothing : 0)),
                          uint16_t(py % kTileSize * kTileSize + px % kTileSize)};
         point_tile_[i] = tile;
         ++block.tile_count[tile];
         ++projected;
       }
+      // The free slots (expired ones included), ascending.
+      size_t free = 0;
+      for (size_t k = 0; k < count; ++k) {
+        slots[free] = uint32_t(first + k);
+        free += size_t(!points_[first + k].valid);
+      }
+      block.free.insert(block.free.end(), slots.begin(), slots.begin() + ptrdiff_t(free));
     }
     block.projected = projected, block.expired = expired, block.back_facing = back_facing_points;
     block.ages.assign(ages.begin(), ages.end());
@@ -266,17 +312,27 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       zbuffer[r.tile_pixel] = nearer ? r.key : zbuffer[r.tile_pixel];
       winner[r.tile_pixel] = nearer ? k : winner[r.tile_pixel];
     }
-    // Unpacked without branches; an empty pixel keeps its region and colour word (not read).
+    // Unpacked without branches (selects by masks: the compiler made a branch of the selects,
+    // mispredicted where drawn and empty pixels alternate), through local pointers (the region's
+    // byte stores would otherwise reload every member); an empty pixel keeps its region, and
+    // its colour word is not read.
+    const ProjectedPoint* const records = binned_.empty() ? &kNoRecord : binned_.data();
+    int32_t *const point = image_.point.data(), *const winners = winners_.data();
+    float* const depth = image_.depth.data();
+    uint32_t* const words = pixel_word_.data();
+    uint8_t* const region = image_.region.data();
+    uint16_t* const age_bins = pixel_age_bin_.data();
+    constexpr uint32_t kInfinity = 0x7f800000u;  // the depth of an empty pixel
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) {
         const size_t i = image_.index(x, y), local = size_t(y - y0) * kTileSize + size_t(x - x0);
         const uint64_t key = zbuffer[local];
-        const bool empty = key == kEmptyKey;
-        const ProjectedPoint& won = binned_.empty() ? kNoRecord : binned_[winner[local]];
-        winners_[i] = image_.point[i] = empty ? -1 : int32_t(uint32_t(key) & kIndexMask);
-        image_.depth[i] = empty ? std::numeric_limits<float>::infinity() : std::bit_cast<float>(uint32_t(key >> 32));
-        image_.region[i] = empty ? image_.region[i] : uint8_t((uint32_t(key) >> 28) & 15);
-        pixel_word_[i] = won.word, pixel_age_bin_[i] = won.age_bin;
+        const uint32_t empty = uint32_t(0) - uint32_t(key == kEmptyKey);  // all ones when empty
+        const ProjectedPoint& won = records[winner[local]];
+        winners[i] = point[i] = int32_t((uint32_t(key) & kIndexMask) | empty);
+        depth[i] = std::bit_cast<float>((uint32_t(key >> 32) & ~empty) | (kInfinity & empty));
+        region[i] = uint8_t((((uint32_t(key) >> 28) & 15) & ~empty) | (region[i] & empty));
+        words[i] = won.word, age_bins[i] = won.age_bin;
       }
     if (!depth_cull) count_drawn(t, x0, y0, x1, y1);
   });
@@ -308,19 +364,25 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
 }
 
 void PointCache::count_drawn(size_t tile, int x0, int y0, int x1, int y1) {
-  std::array<uint32_t, kAgeBins + 1> ages{};  // empty pixels count in the last bin (no branch)
+  // Empty pixels count in the last bin, chosen with a mask (the compiler made a branch of a select,
+  // mispredicted where drawn and empty pixels alternate); two histograms, even and odd pixels, so
+  // that neighbours of one age do not wait on each other's increment.
+  std::array<std::array<uint32_t, kAgeBins + 1>, 2> ages{};
   for (int y = y0; y < y1; ++y)
-    for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i)
-      ++ages[image_.point[i] >= 0 ? size_t(pixel_age_bin_[i] & ~kShowsNothing) : kAgeBins];
-  tile_blocks_[tile].drawn = size_t((x1 - x0) * (y1 - y0)) - ages[kAgeBins];
-  tile_blocks_[tile].ages.assign(ages.begin(), ages.end() - 1);
+    for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i) {
+      const uint32_t empty = uint32_t(image_.point[i] >> 31);  // all ones for -1
+      ++ages[i & 1][(uint32_t(pixel_age_bin_[i] & ~kShowsNothing) & ~empty) | (uint32_t(kAgeBins) & empty)];
+    }
+  for (size_t k = 0; k <= kAgeBins; ++k) ages[0][k] += ages[1][k];
+  tile_blocks_[tile].drawn = size_t((x1 - x0) * (y1 - y0)) - ages[0][kAgeBins];
+  tile_blocks_[tile].ages.assign(ages[0].begin(), ages[0].end() - 1);
 }
 
 bool PointCache::back_facing(const CachePoint& p) const {
   // The stored normal faces the eye the point was shaded from; seen from the other side of its
   // surface, the point is either hidden (closed surfaces) or shows the other side's shading.
-  if (p.object == kNone || p.object >= eye_local_.size() || p.normal == 0) return false;
-  return glm::dot(unpack_unit(p.normal), eye_local_[p.object] - p.local) < 0.0f;
+  if (p.object == kNone || p.object >= eye_local_.size()) return false;
+  return faces_away(p.normal, eye_local_[p.object] - p.local);
 }
 
 bool PointCache::drawn(size_t slot) const {
@@ -484,12 +546,13 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
   size_t inserted = 0;
   for (const ShadeResult& r : batch.results) {
     CachePoint point;
-    point.color = glm::max(r.color, glm::vec3(0.0f));
-    point.view_dependent = glm::clamp(r.view_dependent, glm::vec3(0.0f), point.color);
+    PointColour colour;
+    colour.color = glm::max(r.color, glm::vec3(0.0f));
+    colour.view_dependent = glm::clamp(r.view_dependent, glm::vec3(0.0f), colour.color);
+    colour.epoch = epoch;
+    update_from_colour(point, colour);
     point.lobe_width = r.hit ? r.lobe_width : 0.0f;
     point.view = r.hit ? pack_unit(shot.eye() - r.position) : 0;
-    point.epoch = epoch;
-    point.srgb = pack_srgb(point.color, point.view_dependent);
     point.valid = true;
     glm::vec3 world;
     if (r.hit && r.object < object_to_world.size()) {
@@ -521,24 +584,24 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
             (point.object == kNone || std::abs(image_.depth[image_.index(px, py)] - proj.depth) <= 0.05f * proj.depth)) {
           replace = old;
           CachePoint& cached = points_[size_t(old)];
+          PointColour& stats = colours_[size_t(old)];
           const size_t pixel = image_.index(px, py);
-          if ((no_refine_.size() != image_.point.size() || !no_refine_[pixel]) && refines(cached, point)) {
+          if ((no_refine_.size() != image_.point.size() || !no_refine_[pixel]) && refines(cached, stats, point, colour)) {
             // The same surface point under the same placement: one more sample of the same
             // quantity. A running mean (Welford for the luminance's variance), not a replacement.
-            const float n = float(cached.count) + 1.0f;
-            const float before = luminance(cached.color);
-            cached.color += (point.color - cached.color) / n;
-            cached.view_dependent += (point.view_dependent - cached.view_dependent) / n;
-            cached.luminance_m2 += (luminance(point.color) - before) * (luminance(point.color) - luminance(cached.color));
-            cached.count = uint16_t(std::min<int>(cached.count + 1, 0xffff));
-            cached.srgb = pack_srgb(cached.color, cached.view_dependent);
+            const float n = float(stats.count) + 1.0f;
+            const float before = luminance(stats.color);
+            stats.color += (colour.color - stats.color) / n;
+            stats.view_dependent += (colour.view_dependent - stats.view_dependent) / n;
+            stats.luminance_m2 += (luminance(colour.color) - before) * (luminance(colour.color) - luminance(stats.color));
+            stats.count = uint16_t(std::min<int>(stats.count + 1, 0xffff));
+            update_from_colour(cached, stats);
             cached.age = 0;
             ++refined_;
             ++inserted;
             continue;
           }
-          if (cached.epoch != point.epoch &&
-              shading_changed(cached.color, point.color, settings_.change_threshold)) {
+          if (stats.epoch != colour.epoch && shading_changed(stats.color, colour.color, settings_.change_threshold)) {
             const int r0 = settings_.change_radius;
             for (int qy = std::max(0, py - r0); qy <= std::min(h - 1, py + r0); ++qy)
               for (int qx = std::max(0, px - r0); qx <= std::min(w - 1, px + r0); ++qx) {
@@ -569,18 +632,23 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
         }
       }
     }
-    points_[replace >= 0 ? size_t(replace) : take_slot()] = point;
+    const size_t slot = replace >= 0 ? size_t(replace) : take_slot();
+    points_[slot] = point, colours_[slot] = colour;
     ++inserted;
   }
   return inserted;
 }
 
-bool PointCache::refines(const CachePoint& cached, const CachePoint& result) const {
-  if (!settings_.refine || cached.epoch != result.epoch || cached.object != result.object || result.object == kNone) return false;
-  if (cached.count == 0xffff) return false;
+bool PointCache::refines(const CachePoint& cached, const PointColour& cached_colour, const CachePoint& result,
+                         const PointColour& result_colour) const {
+  if (!settings_.refine || cached_colour.epoch != result_colour.epoch || cached.object != result.object ||
+      result.object == kNone)
+    return false;
+  if (cached_colour.count == 0xffff) return false;
   // View-dependent shading is one quantity only from about the same direction.
-  const float total = luminance(result.color) + luminance(cached.color);
-  const float share = total > 0.0f ? (luminance(result.view_dependent) + luminance(cached.view_dependent)) / total : 0.0f;
+  const float total = luminance(result_colour.color) + luminance(cached_colour.color);
+  const float share =
+      total > 0.0f ? (luminance(result_colour.view_dependent) + luminance(cached_colour.view_dependent)) / total : 0.0f;
   if (share > 0.05f && result.lobe_width > 0.0f) {
     const float turned = std::acos(std::clamp(glm::dot(unpack_unit(cached.view), unpack_unit(result.view)), -1.0f, 1.0f));
     if (turned > 0.1f * std::max(result.lobe_width, kMinLobeWidth)) return false;
@@ -715,31 +783,25 @@ size_t PointCache::remove_listed() {
   return removed;
 }
 
-uint32_t PointCache::display_srgb(const CachePoint& p, bool by_steps) const {
+uint32_t PointCache::display_srgb(const CachePoint& p, const PointColour& c, bool by_steps) const {
   const float staleness = float(p.staleness) / 16.0f;
   if (staleness <= settings_.view_fade_start) return p.srgb;
   const float fade = std::clamp((staleness - settings_.view_fade_start) /
                                     std::max(settings_.view_fade_end - settings_.view_fade_start, 1e-3f), 0.0f, 1.0f);
-  const glm::vec3 shown = p.color - p.view_dependent * fade, shown_view = p.view_dependent * (1.0f - fade);
+  const glm::vec3 shown = c.color - c.view_dependent * fade, shown_view = c.view_dependent * (1.0f - fade);
   return by_steps ? pack_srgb_by_steps(shown, shown_view) : pack_srgb(shown, shown_view);
 }
 
-bool PointCache::shows_nothing(const CachePoint& p) const {
-  return float(p.staleness) / 16.0f >= settings_.view_fade_end && view_share(p) > settings_.view_drop_share;
+bool PointCache::shows_nothing(const CachePoint& p, float view_share) const {
+  return float(p.staleness) / 16.0f >= settings_.view_fade_end && view_share > settings_.view_drop_share;
 }
 
-int PointCache::priority_age(const CachePoint& p) const {
+int PointCache::priority_age(const CachePoint& p, ColourTerms terms) const {
   // The EPI's age byte drives sampling priority (age / 16): points whose mean is still uncertain
-  // ask for samples sooner. Relative standard error of the mean luminance, from the spread of the
-  // results averaged so far (a single result: single_sample_error).
-  float error = settings_.single_sample_error;
-  if (p.count >= 2) {
-    const float n = float(p.count);
-    error = std::sqrt(std::max(p.luminance_m2, 0.0f) / (n * (n - 1.0f))) / (luminance(p.color) + 0.02f);
-  }
+  // ask for samples sooner (colour_terms).
   if (p.object == kNone || settings_.single_sample_error <= 0.0f) return p.age;  // the background is exact
-  const float view = settings_.view_priority * view_share(p) * float(p.staleness) / 16.0f;
-  return int(std::lround(std::min(float(p.age) * std::clamp(error / settings_.single_sample_error, 0.25f, 4.0f) + view, 1e4f)));
+  const float view = settings_.view_priority * terms.view_share * float(p.staleness) / 16.0f;
+  return int(std::lround(std::min(float(p.age) * terms.priority_factor + view, 1e4f)));
 }
 
 void PointCache::fill_epi(EpiImage& epi) const {
@@ -747,29 +809,36 @@ void PointCache::fill_epi(EpiImage& epi) const {
   if (epi.width != image_.width || epi.height != image_.height)
     throw std::invalid_argument("point cache: EPI size differs from the cache's image size");
   tbb::parallel_for(tbb::blocked_range<size_t>(0, image_.point.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
-    if (pixel_words_current_) {  // a copy, without branches (drawn and empty pixels alternate at random)
+    if (pixel_words_current_) {  // a copy, masked without branches (drawn and empty pixels alternate at random)
+      const int32_t* const point = image_.point.data();
+      const uint16_t* const age_bins = pixel_age_bin_.data();
+      const uint8_t* const region = image_.region.data();
+      const uint32_t* const words = pixel_word_.data();
+      uint16_t* const edge = epi.edge.data();
+      uint32_t* const color = epi.color.data();
       for (size_t i = r.begin(); i != r.end(); ++i) {
-        const bool shown = int(image_.point[i] >= 0) & int((pixel_age_bin_[i] & kShowsNothing) == 0);
-        epi.edge[i] = shown ? uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample) : uint16_t(0);
-        epi.color[i] = shown ? pixel_word_[i] : 0u;
+        const uint32_t shown = uint32_t(0) - (uint32_t(point[i] >= 0) & uint32_t((age_bins[i] & kShowsNothing) == 0));
+        edge[i] = uint16_t((uint32_t(region[i]) << bits::kRegionShift | bits::kHasSample) & shown);
+        color[i] = words[i] & shown;
       }
       return;
     }
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const int32_t p = image_.point[i];
-      if (p < 0 || shows_nothing(points_[size_t(p)])) {
+      if (p < 0 || shows_nothing(points_[size_t(p)], points_[size_t(p)].view_share)) {
         epi.edge[i] = 0;
         epi.color[i] = 0;
         continue;
       }
       epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
-      epi.color[i] = epi_color_word(points_[size_t(p)]);
+      epi.color[i] = epi_color_word(size_t(p));
     }
   });
 }
 
-uint32_t PointCache::epi_color_word(const CachePoint& p) const {
-  return display_srgb(p, true) | uint32_t(std::min<int>(priority_age(p), 255)) << bits::kAgeShift;
+uint32_t PointCache::epi_color_word(size_t slot) const {
+  const CachePoint& p = points_[slot];
+  return display_srgb(p, colours_[slot], true) | uint32_t(std::min<int>(priority_age(p, stored_terms(p)), 255)) << bits::kAgeShift;
 }
 
 }  // namespace epi::render

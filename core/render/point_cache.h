@@ -61,22 +61,34 @@ struct PointCacheSettings {
 // surface turns); kShadowEdge: umbral, penumbral, shadow.
 inline constexpr uint8_t kDepthEdge = 1, kShadowEdge = 2, kSharpEdge = 4;
 
+// A cloud slot is split in two records (docs/performance.md, "Point processing"): CachePoint, what
+// the projection and the EPI word read every frame (48 bytes, streamed), and PointColour, the
+// colour statistics read only when a result arrives, a colour fades, or by the reference path.
 struct CachePoint {
   glm::vec3 local{0.0f};  // object space; for background (object == kNone) a world direction
-  glm::vec3 color{0.0f};  // linear RGB (the mean of `count` results)
-  glm::vec3 view_dependent{0.0f};  // of color, the part that depends on the eye (ShadeResult::view_dependent)
-  uint32_t srgb = 0;      // the colour as the EPI stores it (encode_epi_color8 r, g, b), encoded once
   uint32_t object = kNone;
   uint32_t normal = 0;    // geometric normal in object space, octahedral 16:16 (0 for background)
   uint32_t view = 0;      // world direction from the point to the eye it was shaded from, octahedral
+  float lobe_width = 0.0f;  // specular lobe width at the point (radians); 0: none
+  uint32_t srgb = 0;      // the colour as the EPI stores it (encode_epi_color8 r, g, b), encoded once
+  int32_t image_id = -1;  // pixel index of the last projection, -1: none
+  // Of the colour statistics, set with them (PointCache::update_from_colour): the sampling priority's
+  // factor (PointCacheSettings::single_sample_error) and the share of the colour that depends on
+  // the eye (PointCacheSettings::view_priority).
+  float priority_factor = 1.0f;
+  float view_share = 0.0f;
+  uint16_t age = 0;
+  uint8_t staleness = 0;  // view turned since shading, in 1/16 lobe widths (last projection; capped)
+  bool valid = false;
+};
+static_assert(sizeof(CachePoint) == 48);
+
+struct PointColour {
+  glm::vec3 color{0.0f};  // linear RGB (the mean of `count` results)
+  glm::vec3 view_dependent{0.0f};  // of color, the part that depends on the eye (ShadeResult::view_dependent)
   float luminance_m2 = 0.0f;  // sum of squared deviations of the results' luminance (Welford)
-  float lobe_width = 0.0f;    // specular lobe width at the point (radians); 0: none
   uint16_t count = 1;         // results averaged into color
   uint16_t epoch = 0;         // placement (objects, lights) the results were shaded under
-  uint8_t staleness = 0;      // view turned since shading, in 1/16 lobe widths (last projection; capped)
-  int32_t image_id = -1;  // pixel index of the last projection, -1: none
-  uint16_t age = 0;
-  bool valid = false;
 };
 
 // The points drawn in the current frame: one per pixel at most (after the z-buffer and depth cull).
@@ -104,8 +116,9 @@ struct ProjectionCounts {
 // points, it spread as blotches (chains at rest, display RMSE 0.031 -> 0.041 when it was kept).
 glm::vec3 epi_colour(const glm::vec3& color, const glm::vec3& view_dependent);
 
-// encode_epi_color8 (epi_pixel.h) without its pow and log: a search of the 255 steps' least floats,
-// found once with encode_epi_color8 itself. Equal to it for every float (docs/performance.md, "Point processing").
+// encode_epi_color8 (epi_pixel.h) without its pow and log: the 255 steps' least floats, found once
+// with encode_epi_color8 itself, scanned from a lower bound looked up by the float's top 16 bits.
+// Equal to it for every float (docs/performance.md, "Point processing").
 uint8_t encode_epi_color8_by_steps(float linear);
 
 class PointCache {
@@ -156,6 +169,7 @@ class PointCache {
 
   const PointImage& image() const { return image_; }
   const std::vector<CachePoint>& points() const { return points_; }
+  const std::vector<PointColour>& colours() const { return colours_; }  // of points()[i]: colours()[i]
   size_t capacity() const { return points_.size(); }
   size_t valid_points() const;
   size_t hidden_removed() const { return hidden_removed_; }  // points whose slot a ray showed hidden
@@ -165,18 +179,27 @@ class PointCache {
   float background_depth() const { return background_depth_; }
 
  private:
+  // What the EPI word takes from a point's colour statistics: stored in the point (the fast path)
+  // or computed from its PointColour (the reference path, so that the oracle checks the stored ones).
+  struct ColourTerms {
+    float view_share, priority_factor;
+  };
+  static ColourTerms stored_terms(const CachePoint& p) { return {p.view_share, p.priority_factor}; }
+  ColourTerms colour_terms(const PointColour& c) const;
+  // Sets p's srgb and colour terms from its colour statistics (whenever they change).
+  void update_from_colour(CachePoint& p, const PointColour& c) const;
   // How far the view has turned at p since it was shaded (to_eye: from the point to the eye now),
   // in 1/16 lobe widths; 0 for shading that does not depend on the view.
-  uint8_t view_staleness(const CachePoint& p, const glm::vec3& to_eye) const;
+  uint8_t view_staleness(const CachePoint& p, float view_share, const glm::vec3& to_eye) const;
   // Whether p's shading depends on the view at all (else its staleness is 0).
-  static bool view_dependent(const CachePoint& p);
-  // The share of p's colour that depends on the view.
-  static float view_share(const CachePoint& p);
-  bool refines(const CachePoint& cached, const CachePoint& result) const;
-  int priority_age(const CachePoint& p) const;
+  static bool view_dependent(const CachePoint& p, float view_share);
+  bool refines(const CachePoint& cached, const PointColour& cached_colour, const CachePoint& result,
+               const PointColour& result_colour) const;
+  int priority_age(const CachePoint& p, ColourTerms terms) const;
   // srgb, less the view-dependent part as it goes stale; by_steps: encoded with encode_epi_color8_by_steps
-  uint32_t display_srgb(const CachePoint& p, bool by_steps = false) const;
-  bool shows_nothing(const CachePoint& p) const;  // stale and mostly view-dependent (view_drop_share)
+  uint32_t display_srgb(const CachePoint& p, const PointColour& c, bool by_steps = false) const;
+  // stale and mostly view-dependent (view_drop_share)
+  bool shows_nothing(const CachePoint& p, float view_share) const;
   size_t take_slot();
   bool drawn(size_t slot) const;  // the point is the one drawn at its pixel in the last projection
   bool back_facing(const CachePoint& p) const;  // uses eye_local_ of the current projection
@@ -209,7 +232,7 @@ class PointCache {
     std::vector<uint32_t> ages;  // of the drawn points
   };
   void count_drawn(size_t tile, int x0, int y0, int x1, int y1);
-  uint32_t epi_color_word(const CachePoint& p) const;  // fill_epi's colour word: display colour and priority age
+  uint32_t epi_color_word(size_t slot) const;  // fill_epi's colour word: display colour and priority age
   void window_min_depth(int radius);  // min_depth_: the least depth over each pixel's (2r+1)^2 window
   // Runs pass(first row, end row, list) over bands of rows in parallel, each with its own cleared
   // list in band_lists_; remove_listed() then empties the listed pixels and counts them.
@@ -224,6 +247,7 @@ class PointCache {
 
   PointCacheSettings settings_;
   std::vector<CachePoint> points_;
+  std::vector<PointColour> colours_;
   std::vector<uint32_t> free_slots_;
   size_t cursor_ = 0;
   int evict_age_ = 1;                   // take_slot's sweep takes points at least this old

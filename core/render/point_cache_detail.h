@@ -38,6 +38,12 @@ inline glm::vec3 unpack_unit(uint32_t packed) {
   return glm::normalize(n);
 }
 
+// Whether a surface of the given packed normal (0: none) faces away from the eye (to_eye: from the
+// point to the eye, in the normal's space).
+inline bool faces_away(uint32_t normal, const glm::vec3& to_eye) {
+  return normal != 0 && glm::dot(unpack_unit(normal), to_eye) < 0.0f;
+}
+
 // lround(min(16 acos(cosine) / width, 255)): a view's turn in 1/16 lobe widths (the staleness of
 // view-dependent shading), without acos where a polynomial settles it. acos(|x|) =
 // sqrt(1 - |x|) (a0 + a1 |x| + a2 |x|^2 + a3 |x|^3) within 5e-5 (Abramowitz and Stegun 4.4.45;

@@ -43,7 +43,7 @@ ProjectionCounts PointCache::project_reference(const ViewFrame& frame, std::span
           if (!p.valid) continue;
           p.age = uint16_t(std::min(p.age + 1, 0xffff));
           const glm::vec3 world = world_position(p, frame, object_to_world);
-          p.staleness = view_staleness(p, frame.eye() - world);
+          p.staleness = view_staleness(p, colour_terms(colours_[i]).view_share, frame.eye() - world);
           const Projection proj = frame.project(world);
           const bool inside = in_view_or_penalised(p, proj, znear);
           if (p.age > max_age) {
@@ -168,14 +168,22 @@ void PointCache::fill_epi_reference(EpiImage& epi) const {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, image_.point.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const int32_t p = image_.point[i];
-      if (p < 0 || shows_nothing(points_[size_t(p)])) {
+      if (p < 0) {
         epi.edge[i] = 0;
         epi.color[i] = 0;
         continue;
       }
+      // The colour terms from the colour statistics (the fast path reads the stored ones).
       const CachePoint& point = points_[size_t(p)];
+      const PointColour& colour = colours_[size_t(p)];
+      const ColourTerms terms = colour_terms(colour);
+      if (shows_nothing(point, terms.view_share)) {
+        epi.edge[i] = 0;
+        epi.color[i] = 0;
+        continue;
+      }
       epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
-      epi.color[i] = display_srgb(point) | uint32_t(std::min<int>(priority_age(point), 255)) << bits::kAgeShift;
+      epi.color[i] = display_srgb(point, colour) | uint32_t(std::min<int>(priority_age(point, terms), 255)) << bits::kAgeShift;
     }
   });
 }

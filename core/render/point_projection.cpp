@@ -21,6 +21,24 @@ HWY_INLINE V Dot(V ax, V ay, V az, V bx, V by, V bz) {
   return hn::Add(hn::Add(hn::Mul(ax, bx), hn::Mul(ay, by)), hn::Mul(az, bz));
 }
 
+// detail::unpack_unit: an octahedral 16:16 unit vector, normalized.
+template <class D, class VU>
+HWY_INLINE void UnpackUnit(D d, VU packed, hn::Vec<D>& nx, hn::Vec<D>& ny, hn::Vec<D>& nz) {
+  const hn::RebindToSigned<D> di;
+  const hn::RebindToUnsigned<D> du;
+  const auto zero = hn::Zero(d), one = hn::Set(d, 1.0f), minus_one = hn::Set(d, -1.0f);
+  const auto steps_65535 = hn::Set(d, 65535.0f), two = hn::Set(d, 2.0f);
+  const auto ex = hn::Sub(hn::Mul(hn::Div(hn::ConvertTo(d, hn::BitCast(di, hn::And(packed, hn::Set(du, 0xffffu)))), steps_65535), two), one);
+  const auto ey = hn::Sub(hn::Mul(hn::Div(hn::ConvertTo(d, hn::BitCast(di, hn::ShiftRight<16>(packed))), steps_65535), two), one);
+  const auto z = hn::Sub(hn::Sub(one, hn::Abs(ex)), hn::Abs(ey));
+  const auto folded = hn::Lt(z, zero);
+  const auto fx = hn::Mul(hn::Sub(one, hn::Abs(ey)), hn::IfThenElse(hn::Ge(ex, zero), one, minus_one));
+  const auto fy = hn::Mul(hn::Sub(one, hn::Abs(ex)), hn::IfThenElse(hn::Ge(ey, zero), one, minus_one));
+  const auto x = hn::IfThenElse(folded, fx, ex), y = hn::IfThenElse(folded, fy, ey);
+  const auto inverse = hn::Div(one, hn::Sqrt(Dot(x, y, z, x, y, z)));
+  nx = hn::Mul(x, inverse), ny = hn::Mul(y, inverse), nz = hn::Mul(z, inverse);
+}
+
 void ProjectBatch(const Constants& c, ProjectionBatch& b, size_t n) {
   const hn::ScalableTag<float> d;
   const hn::RebindToSigned<decltype(d)> di;
@@ -41,18 +59,9 @@ void ProjectBatch(const Constants& c, ProjectionBatch& b, size_t n) {
     // PointCache::view_staleness: the cosine of the turn, as it computes it.
     const auto tx = hn::Sub(hn::Set(d, c.eye[0]), wx), ty = hn::Sub(hn::Set(d, c.eye[1]), wy), tz = hn::Sub(hn::Set(d, c.eye[2]), wz);
     const auto length = hn::Sqrt(Dot(tx, ty, tz, tx, ty, tz));
-    const auto view = hn::Load(du, b.view + i);
-    const auto steps_65535 = hn::Set(d, 65535.0f), two = hn::Set(d, 2.0f);
-    const auto ex = hn::Sub(hn::Mul(hn::Div(hn::ConvertTo(d, hn::BitCast(di, hn::And(view, hn::Set(du, 0xffffu)))), steps_65535), two), one);
-    const auto ey = hn::Sub(hn::Mul(hn::Div(hn::ConvertTo(d, hn::BitCast(di, hn::ShiftRight<16>(view))), steps_65535), two), one);
-    const auto nz = hn::Sub(hn::Sub(one, hn::Abs(ex)), hn::Abs(ey));
-    const auto folded = hn::Lt(nz, zero);
-    const auto fx = hn::Mul(hn::Sub(one, hn::Abs(ey)), hn::IfThenElse(hn::Ge(ex, zero), one, minus_one));
-    const auto fy = hn::Mul(hn::Sub(one, hn::Abs(ex)), hn::IfThenElse(hn::Ge(ey, zero), one, minus_one));
-    const auto nx = hn::IfThenElse(folded, fx, ex), ny = hn::IfThenElse(folded, fy, ey);
-    const auto inverse = hn::Div(one, hn::Sqrt(Dot(nx, ny, nz, nx, ny, nz)));
-    const auto cosine_raw = Dot(hn::Div(tx, length), hn::Div(ty, length), hn::Div(tz, length), hn::Mul(nx, inverse),
-                                hn::Mul(ny, inverse), hn::Mul(nz, inverse));
+    hn::Vec<decltype(d)> vx, vy, vz;
+    UnpackUnit(d, hn::Load(du, b.view + i), vx, vy, vz);
+    const auto cosine_raw = Dot(hn::Div(tx, length), hn::Div(ty, length), hn::Div(tz, length), vx, vy, vz);
     const auto cosine = hn::Min(hn::Max(cosine_raw, minus_one), one);
     // detail::staleness_steps' estimate and its error bound.
     const auto width = hn::Load(d, b.lobe_width + i);
@@ -74,6 +83,13 @@ void ProjectBatch(const Constants& c, ProjectionBatch& b, size_t n) {
     result = hn::IfThenElse(hn::RebindMask(di, capped), hn::Set(di, 255), result);
     result = hn::IfThenElse(hn::RebindMask(di, sound), result, hn::Set(di, -1));
     hn::Store(result, di, b.staleness + i);
+    // detail::faces_away.
+    const auto normal = hn::Load(du, b.normal + i);
+    hn::Vec<decltype(d)> nx, ny, nz;
+    UnpackUnit(d, normal, nx, ny, nz);
+    const auto facing = Dot(nx, ny, nz, hn::Load(d, b.eye_x + i), hn::Load(d, b.eye_y + i), hn::Load(d, b.eye_z + i));
+    const auto away = hn::AndNot(hn::RebindMask(d, hn::Eq(normal, hn::Zero(du))), hn::Lt(facing, zero));
+    hn::Store(hn::IfThenElseZero(hn::RebindMask(di, away), hn::Set(di, 1)), di, b.back_facing + i);
   }
 }
 

@@ -274,7 +274,7 @@ void predicted_occupancy(const PointCache& cache, const ViewFrame& frame, std::s
     size_t count = 0;
     auto splat_batch = [&] {
       for (size_t k = count; k < std::min(ProjectionBatch::kSize, count + 16); ++k)  // the last vector's lanes
-        batch.x[k] = batch.y[k] = batch.z[k] = 0.0f, batch.view[k] = 0, batch.lobe_width[k] = 1.0f;
+        batch.x[k] = batch.y[k] = batch.z[k] = 0.0f, batch.view[k] = 0, batch.lobe_width[k] = 1.0f, batch.normal[k] = 0;
       project_batch(frame, batch, count);
       for (size_t k = 0; k < count; ++k) {
         if (!(batch.depth[k] > znear)) continue;
@@ -292,7 +292,7 @@ void predicted_occupancy(const PointCache& cache, const ViewFrame& frame, std::s
       if (splitmix64(i) % uint64_t(stride) != subset || !points[i].valid) continue;
       const glm::vec3 world = cache.world_position(points[i], frame, object_to_world);
       batch.x[count] = world.x, batch.y[count] = world.y, batch.z[count] = world.z;
-      batch.view[count] = 0, batch.lobe_width[count] = 1.0f;
+      batch.view[count] = 0, batch.lobe_width[count] = 1.0f, batch.normal[count] = 0;  // no staleness, no back-face test
       if (++count == ProjectionBatch::kSize) splat_batch();
     }
     if (count > 0) splat_batch();

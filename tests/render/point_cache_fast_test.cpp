@@ -37,10 +37,15 @@ bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof(float)) == 
 bool same_bits(const glm::vec3& a, const glm::vec3& b) { return same_bits(a.x, b.x) && same_bits(a.y, b.y) && same_bits(a.z, b.z); }
 
 bool same_point(const CachePoint& a, const CachePoint& b) {
-  return same_bits(a.local, b.local) && same_bits(a.color, b.color) && same_bits(a.view_dependent, b.view_dependent) &&
-         a.srgb == b.srgb && a.object == b.object && a.normal == b.normal && a.view == b.view &&
-         same_bits(a.luminance_m2, b.luminance_m2) && same_bits(a.lobe_width, b.lobe_width) && a.count == b.count &&
-         a.epoch == b.epoch && a.staleness == b.staleness && a.image_id == b.image_id && a.age == b.age && a.valid == b.valid;
+  return same_bits(a.local, b.local) && a.srgb == b.srgb && a.object == b.object && a.normal == b.normal &&
+         a.view == b.view && same_bits(a.lobe_width, b.lobe_width) && same_bits(a.priority_factor, b.priority_factor) &&
+         same_bits(a.view_share, b.view_share) && a.staleness == b.staleness && a.image_id == b.image_id &&
+         a.age == b.age && a.valid == b.valid;
+}
+
+bool same_colour(const PointColour& a, const PointColour& b) {
+  return same_bits(a.color, b.color) && same_bits(a.view_dependent, b.view_dependent) &&
+         same_bits(a.luminance_m2, b.luminance_m2) && a.count == b.count && a.epoch == b.epoch;
 }
 
 void expect_same_cache(const PointCache& fast, const PointCache& reference, const std::string& where) {
@@ -50,8 +55,9 @@ void expect_same_cache(const PointCache& fast, const PointCache& reference, cons
   EXPECT_EQ(first_difference(f.depth, r.depth), -1) << where << ": depth image";
   EXPECT_EQ(first_difference(f.region, r.region), -1) << where << ": region image";
   ASSERT_EQ(fast.points().size(), reference.points().size());
+  ASSERT_EQ(fast.colours().size(), reference.colours().size());
   for (size_t i = 0; i < fast.points().size(); ++i)
-    if (!same_point(fast.points()[i], reference.points()[i])) {
+    if (!same_point(fast.points()[i], reference.points()[i]) || !same_colour(fast.colours()[i], reference.colours()[i])) {
       ADD_FAILURE() << where << ": cloud slot " << i << " differs";
       break;
     }

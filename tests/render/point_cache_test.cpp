@@ -236,7 +236,9 @@ TEST(PointCache, NewResultsRefineOrOverwriteOldPointsAndChangedShadingAgesTheNei
   cache.insert(frame, full_plane(frame, 0.0f, 0.5f, 0.5f, glm::vec3(0.5f)), kIdentity);
   cache.project(frame, kIdentity);
   const size_t before = cache.valid_points();
-  auto point_at = [&](int x, int y) -> const CachePoint& { return cache.points()[size_t(cache.image().point[cache.image().index(x, y)])]; };
+  auto slot_at = [&](int x, int y) { return size_t(cache.image().point[cache.image().index(x, y)]); };
+  auto point_at = [&](int x, int y) -> const CachePoint& { return cache.points()[slot_at(x, y)]; };
+  auto colour_at = [&](int x, int y) -> const PointColour& { return cache.colours()[slot_at(x, y)]; };
   // The same placement (epoch 0): the result refines the point drawn there (running mean, the
   // point keeps its position), no aging around it.
   ShadeBatch same;
@@ -246,8 +248,8 @@ TEST(PointCache, NewResultsRefineOrOverwriteOldPointsAndChangedShadingAgesTheNei
   EXPECT_EQ(cache.refined(), 1u);
   cache.project(frame, kIdentity);
   EXPECT_EQ(point_at(10, 10).age, 1);
-  EXPECT_EQ(point_at(10, 10).count, 2);
-  EXPECT_NEAR(point_at(10, 10).color.g, 0.6f, 1e-6f);
+  EXPECT_EQ(colour_at(10, 10).count, 2);
+  EXPECT_NEAR(colour_at(10, 10).color.g, 0.6f, 1e-6f);
   EXPECT_EQ(point_at(11, 10).age, 2);
   EXPECT_EQ(cache.image().region[cache.image().index(10, 10)], 2 + 4 * 2);
   // A much brighter result shaded under a new placement (epoch 1): it replaces the point (its
@@ -259,7 +261,7 @@ TEST(PointCache, NewResultsRefineOrOverwriteOldPointsAndChangedShadingAgesTheNei
   cache.project(frame, kIdentity);
   const int penalty = cache.settings().change_penalty;
   EXPECT_EQ(point_at(20, 20).age, 1);
-  EXPECT_EQ(point_at(20, 20).count, 1);
+  EXPECT_EQ(colour_at(20, 20).count, 1);
   EXPECT_EQ(cache.image().region[cache.image().index(20, 20)], 1 + 4 * 1);
   EXPECT_EQ(point_at(22, 22).age, 3 + penalty);
   EXPECT_EQ(point_at(23, 20).age, 3);
@@ -268,7 +270,7 @@ TEST(PointCache, NewResultsRefineOrOverwriteOldPointsAndChangedShadingAgesTheNei
   again.results.push_back(plane_hit(frame, 20.75f, 20.75f, 0.0f, 0, glm::vec3(2.0f)));
   cache.insert(frame, again, kIdentity, 1);
   cache.project(frame, kIdentity);
-  EXPECT_EQ(point_at(20, 20).count, 2);
+  EXPECT_EQ(colour_at(20, 20).count, 2);
   EXPECT_EQ(point_at(22, 22).age, 4 + penalty);
 }
 
@@ -404,11 +406,12 @@ TEST(PointCache, RefinedPointsAverageTheirResultsAndAskForSamplesByTheirUncertai
     cache.insert(frame, batch, kIdentity);
   }
   for (int k = 0; k < 20; ++k) cache.project(frame, kIdentity);  // both now 20 frames old
-  const CachePoint& calm = cache.points()[size_t(cache.image().point[cache.image().index(2, 2)])];
-  const CachePoint& noisy = cache.points()[size_t(cache.image().point[cache.image().index(5, 5)])];
-  EXPECT_EQ(calm.count, 51);
-  EXPECT_EQ(noisy.count, 51);
-  EXPECT_NEAR(noisy.color.r, sum / 51.0, 1e-4);
+  const size_t calm_slot = size_t(cache.image().point[cache.image().index(2, 2)]);
+  const size_t noisy_slot = size_t(cache.image().point[cache.image().index(5, 5)]);
+  const CachePoint& calm = cache.points()[calm_slot];
+  EXPECT_EQ(cache.colours()[calm_slot].count, 51);
+  EXPECT_EQ(cache.colours()[noisy_slot].count, 51);
+  EXPECT_NEAR(cache.colours()[noisy_slot].color.r, sum / 51.0, 1e-4);
   EXPECT_EQ(calm.age, 20);
   EpiImage epi(w, h);
   cache.fill_epi(epi);

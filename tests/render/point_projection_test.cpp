@@ -1,7 +1,9 @@
 // The point cache's projection kernel (core/render/point_projection.h) on every Highway target
 // compiled and supported here, against the scalar code it replaces: ViewFrame::project's depth
-// and pixel bit for bit, and the staleness, where the kernel settles it, equal to the scalar
-// formula (detail::staleness_steps of the cosine PointCache::view_staleness computes).
+// and pixel bit for bit, the staleness, where the kernel settles it, equal to the scalar formula
+// (detail::staleness_steps of the cosine PointCache::view_staleness computes), and the back-face
+// test equal to detail::faces_away.
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <random>
@@ -25,7 +27,7 @@ TEST(PointProjection, EveryTargetGivesTheScalarBits) {
     hwy::SetSupportedTargetsForTest(target);
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> coordinate(-20.0f, 20.0f), log_width(std::log(0.02f), std::log(3.0f));
-    size_t settled = 0, viewed = 0;
+    size_t settled = 0, viewed = 0, facing[2] = {0, 0};
     for (int round = 0; round < 40 && !HasFailure(); ++round) {
       View view;
       view.camera.eye = {coordinate(rng), coordinate(rng), coordinate(rng)};
@@ -44,6 +46,16 @@ TEST(PointProjection, EveryTargetGivesTheScalarBits) {
         batch.view[k] = uint32_t(rng());
         if (k % 5 == 0) batch.view[k] = 0x7fff7fffu + uint32_t(k % 3);  // near the octahedron's centre
         batch.lobe_width[k] = std::exp(log_width(rng));
+        // The back-face test: random normals (0: none) and eyes, a fifth of them close to the
+        // tangent plane (the sign of a small dot product), some not finite.
+        batch.normal[k] = k % 11 == 0 ? 0u : uint32_t(rng());
+        glm::vec3 eye{coordinate(rng), coordinate(rng), coordinate(rng)};
+        if (k % 5 == 1) {
+          const glm::vec3 n = detail::unpack_unit(batch.normal[k]);
+          eye = eye - glm::dot(eye, n) * n + float(int(k % 3) - 1) * 1e-6f * n;
+        }
+        if (k % 37 == 0) eye *= 1e38f;
+        batch.eye_x[k] = eye.x, batch.eye_y[k] = eye.y, batch.eye_z[k] = eye.z;
       }
       // Half the points seen from where they were shaded, give or take a little.
       for (size_t k = 0; k < ProjectionBatch::kSize; k += 2) {
@@ -60,6 +72,9 @@ TEST(PointProjection, EveryTargetGivesTheScalarBits) {
         if (!same_bits(p.depth, batch.depth[k]) || !same_bits(p.pixel.x, batch.pixel_x[k]) || !same_bits(p.pixel.y, batch.pixel_y[k]))
           ADD_FAILURE() << hwy::TargetName(target) << ": projection of entry " << k << " differs: " << p.depth << " "
                         << batch.depth[k] << ", " << p.pixel.x << " " << batch.pixel_x[k] << ", " << p.pixel.y << " " << batch.pixel_y[k];
+        const bool away = detail::faces_away(batch.normal[k], glm::vec3(batch.eye_x[k], batch.eye_y[k], batch.eye_z[k]));
+        if (batch.back_facing[k] != int(away)) ADD_FAILURE() << hwy::TargetName(target) << ": back-face test of entry " << k << " differs";
+        facing[away] += 1;
         const glm::vec3 to_eye = frame.eye() - world;
         const float length = glm::length(to_eye);
         if (batch.staleness[k] < 0) continue;
@@ -74,6 +89,7 @@ TEST(PointProjection, EveryTargetGivesTheScalarBits) {
     }
     EXPECT_GT(settled, size_t(8000)) << hwy::TargetName(target);  // of 40 x ~250: most are settled
     EXPECT_GT(viewed, size_t(500)) << hwy::TargetName(target);
+    EXPECT_GT(std::min(facing[0], facing[1]), size_t(3000)) << hwy::TargetName(target);  // both verdicts
   }
   hwy::SetSupportedTargetsForTest(0);
 }
