@@ -269,7 +269,12 @@ void predicted_occupancy(const PointCache& cache, const ViewFrame& frame, std::s
   // chosen before a point is read; the chosen ones are projected in batches (project_batch, the
   // point cache's kernel: ViewFrame::project's bits).
   const uint64_t subset = uint64_t(std::max(0, phase) % stride);
+  const bool power_of_two = (stride & (stride - 1)) == 0;
+  uint8_t* const occupancy = occupied.data();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 8192), [&](const tbb::blocked_range<size_t>& r) {
+    // Locals, not the closure's references: the compiler reloads those after every atomic store.
+    const int sw = w, sh = h, sp = splat;
+    const float near = znear;
     ProjectionBatch batch;
     size_t count = 0;
     auto splat_batch = [&] {
@@ -277,23 +282,40 @@ void predicted_occupancy(const PointCache& cache, const ViewFrame& frame, std::s
         batch.x[k] = batch.y[k] = batch.z[k] = 0.0f, batch.view[k] = 0, batch.lobe_width[k] = 1.0f, batch.normal[k] = 0;
       project_batch(frame, batch, count);
       for (size_t k = 0; k < count; ++k) {
-        if (!(batch.depth[k] > znear)) continue;
-        const float fx = std::floor(batch.pixel_x[k] - 0.5f * float(splat) + 0.5f);
-        const float fy = std::floor(batch.pixel_y[k] - 0.5f * float(splat) + 0.5f);
-        if (!(fx > -float(splat) && fy > -float(splat) && fx < float(w) && fy < float(h))) continue;
+        if (!(batch.depth[k] > near)) continue;
+        const float fx = std::floor(batch.pixel_x[k] - 0.5f * float(sp) + 0.5f);
+        const float fy = std::floor(batch.pixel_y[k] - 0.5f * float(sp) + 0.5f);
+        if (!(fx > -float(sp) && fy > -float(sp) && fx < float(sw) && fy < float(sh))) continue;
         const int x0 = int(fx), y0 = int(fy);
-        for (int y = std::max(0, y0); y < std::min(h, y0 + splat); ++y)
-          for (int x = std::max(0, x0); x < std::min(w, x0 + splat); ++x)
-            std::atomic_ref<uint8_t>(occupied[size_t(y) * size_t(w) + size_t(x)]).store(1, std::memory_order_relaxed);
+        const int xa = std::max(0, x0), xb = std::min(sw, x0 + sp), ya = std::max(0, y0), yb = std::min(sh, y0 + sp);
+        for (int y = ya; y < yb; ++y) {
+          uint8_t* row = occupancy + size_t(y) * size_t(sw);
+          for (int x = xa; x < xb; ++x) std::atomic_ref<uint8_t>(row[x]).store(1, std::memory_order_relaxed);
+        }
       }
       count = 0;
     };
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      if (splitmix64(i) % uint64_t(stride) != subset || !points[i].valid) continue;
-      const glm::vec3 world = cache.world_position(points[i], frame, object_to_world);
-      batch.x[count] = world.x, batch.y[count] = world.y, batch.z[count] = world.z;
-      batch.view[count] = 0, batch.lobe_width[count] = 1.0f, batch.normal[count] = 0;  // no staleness, no back-face test
-      if (++count == ProjectionBatch::kSize) splat_batch();
+    // The subset a chunk of slots at a time, without a branch per slot (the hash picks 1 of
+    // `stride` at random: a branch on it mispredicts every other slot at stride 2; a power of two
+    // takes a mask, not a division); then the chosen slots in order.
+    constexpr size_t kChunk = 256;
+    uint32_t chosen[kChunk];
+    for (size_t c0 = r.begin(); c0 < r.end(); c0 += kChunk) {
+      const size_t c1 = std::min(r.end(), c0 + kChunk);
+      size_t n = 0;
+      for (size_t i = c0; i < c1; ++i) {
+        const uint64_t hash = splitmix64(i);
+        chosen[n] = uint32_t(i - c0);
+        n += (power_of_two ? hash & uint64_t(stride - 1) : hash % uint64_t(stride)) == subset;
+      }
+      for (size_t k = 0; k < n; ++k) {
+        const CachePoint& p = points[c0 + chosen[k]];
+        if (!p.valid) continue;
+        const glm::vec3 world = cache.world_position(p, frame, object_to_world);
+        batch.x[count] = world.x, batch.y[count] = world.y, batch.z[count] = world.z;
+        batch.view[count] = 0, batch.lobe_width[count] = 1.0f, batch.normal[count] = 0;  // no staleness, no back-face test
+        if (++count == ProjectionBatch::kSize) splat_batch();
+      }
     }
     if (count > 0) splat_batch();
   });
