@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <utility>
 
 #include "epi/geometry.h"
@@ -240,7 +241,255 @@ void complex_impl(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, 
     }
 }
 
+// ---- The row kernel (complex_row): the same filter, restructured (docs/epi.md, "Complex pixels").
+// Boards here are 6 rows of 8 bits (bit v * 8 + u, columns 6 and 7 empty), so a window's board
+// is three 2-column strips side by side, each strip that of one pixel column.
+constexpr int kStride = 8;
+
+// The weight 1 / (1 + d^2)^2 by d^2 (offsets up to 5 sub-pixels each way): the oracle's expression.
+const std::array<float, 51>& sample_weights() {
+  static const std::array<float, 51> table = [] {
+    std::array<float, 51> t{};
+    for (size_t i = 0; i < t.size(); ++i) {
+      const float d2 = float(i);
+      t[i] = 1.0f / ((1.0f + d2) * (1.0f + d2));
+    }
+    return t;
+  }();
+  return table;
+}
+
 }  // namespace
+
+// geom::classify_cell(sides, 4) as sub_cell_classes() encodes it, without its 128 KB (whose
+// scattered reads missed the caches): classify_cell's own rules (at most one crossing: empty;
+// more than two: complex), and for exactly two a table by the pair, built from classify_cell.
+// Equal to the table for all 65,536 indices (tests/epi/complex_filter_test.cpp).
+uint16_t sub_cell_class(uint32_t index) {
+  static const std::array<uint16_t, 256> pairs = [] {
+    std::array<uint16_t, 256> t{};
+    for (int a = 0; a < 16; ++a)
+      for (int b = a + 1; b < 16; ++b) {
+        const uint32_t i = 1u << a | 1u << b;
+        const uint8_t sides[4] = {uint8_t(i & 15), uint8_t((i >> 4) & 15), uint8_t((i >> 8) & 15), uint8_t(i >> 12)};
+        const geom::CellClass c = geom::classify_cell(sides, 4);
+        t[size_t(a * 16 + b)] = uint16_t(int(c.kind) | c.p_low << 2 | c.p_high << 6);
+      }
+    return t;
+  }();
+  const uint32_t rest = index & (index - 1);  // without the lowest crossing
+  const uint16_t pair = pairs[size_t((__builtin_ctz(index | 0x10000) & 15) * 16 + (__builtin_ctz(rest | 0x10000) & 15))];
+  const uint16_t one_or_two = rest == 0 ? uint16_t(CellKind::empty) : pair;
+  return (rest & (rest - 1)) != 0 ? uint16_t(CellKind::complex) : one_or_two;
+}
+
+namespace {
+
+// Spreads bit k of a byte to bit 8k (probe bits into a strip column; a 6-bit column into a board).
+const std::array<uint64_t, 256>& spread_bits_to_bytes() {
+  static const std::array<uint64_t, 256> table = [] {
+    std::array<uint64_t, 256> t{};
+    for (uint32_t i = 0; i < 256; ++i)
+      for (int k = 0; k < 8; ++k) t[i] |= uint64_t((i >> k) & 1) << (8 * k);
+    return t;
+  }();
+  return table;
+}
+
+// One pixel column of a window (pixels (px, y - 1 .. y + 1)): its 2x6 sub-pixels and 3 samples,
+// computed once per row and shared by the windows of up to three complex pixels. Computed and
+// used without branches on the data where that is cheap (mispredictions, not memory, were most
+// of the filter's time; docs/epi.md).
+struct Strip {
+  int px = -2;  // the column; -2: none (never asked: columns start at -1)
+  // Boards of the strip's two columns (bits v * 8 + sx): not complex (inside the image), and
+  // the eight probe bits of SubPixelGeometry::probe_bits (side * 2 + k).
+  uint64_t ok = 0, probe[8] = {};
+  uint8_t kind[6][2];  // CellKind, complex outside the image
+  uint8_t code[6][2];  // simple: the edge code 16 p_low + p_high; else 0 (no probe bits, quarters 0)
+  struct Sample {
+    float present;  // 1: a sample in a region (not dropped), else 0
+    uint8_t sx, v, region;
+    float rgb[3];  // finite also when absent
+  } sample[3];
+};
+
+void fill_strip(Strip& s, const EpiRows& epi, const BoundaryMasks& masks, int px, int y,
+                const std::array<SubPixelGeometry, 256>& geometry) {
+  const std::array<uint64_t, 256>& spread = spread_bits_to_bytes();
+  s.px = px;
+  uint64_t ok = 0, column[2] = {};  // column[sx]: bit 8k + v = probe bit k of sub-pixel (sx, v)
+  const size_t row_stride = size_t(masks.width) + 1;
+  for (int j = 0; j < 3; ++j) {
+    const int py = y - 1 + j;
+    Strip::Sample& sample = s.sample[j];
+    if (!epi.inside(px, py)) {
+      for (int v = 2 * j; v < 2 * j + 2; ++v)
+        s.kind[v][0] = s.kind[v][1] = uint8_t(CellKind::complex), s.code[v][0] = s.code[v][1] = 0;
+      sample = {0.0f, 0, uint8_t(2 * j), 0, {0, 0, 0}};
+      continue;
+    }
+    const size_t i = masks.index(px, py);
+    const uint32_t top = masks.top[i], bottom = masks.top[i + row_stride], left = masks.left[i],
+                   right = masks.left[i + 1], centre_h = masks.centre_h[i], centre_v = masks.centre_v[i];
+    for (int sy = 0; sy < 2; ++sy)
+      for (int sx = 0; sx < 2; ++sx) {
+        const uint32_t t = half(sy == 0 ? top : centre_h, sx), r = half(sx == 0 ? centre_v : right, sy);
+        const uint32_t b = half(sy == 0 ? centre_h : bottom, sx), l = half(sx == 0 ? left : centre_v, sy);
+        const uint32_t c = sub_cell_class(t | r << 4 | b << 8 | l << 12), kind = c & 3;
+        const uint32_t code = (((c >> 2) & 15) * 16 + (c >> 6)) & (0u - uint32_t(kind == uint32_t(CellKind::simple)));
+        const int v = 2 * j + sy, pos = v * kStride + sx;
+        s.kind[v][sx] = uint8_t(kind), s.code[v][sx] = uint8_t(code);
+        ok |= uint64_t(kind != uint32_t(CellKind::complex)) << pos;
+        column[sx] |= spread[geometry[code].probe_bits] << v;
+      }
+    const uint16_t e = epi.edge_at(px, py);
+    const int r = sample_region(e), rx = r & 3, ry = r >> 2, sx = rx >> 1, v = 2 * j + (ry >> 1);
+    const bool complex = s.kind[v][sx] == uint8_t(CellKind::complex);
+    const int region = complex ? 3 : geometry[s.code[v][sx]].quarter[(rx & 1) + 2 * (ry & 1)];
+    sample.present = float(has_sample(e) && region < 2);
+    sample.sx = uint8_t(sx), sample.v = uint8_t(v), sample.region = uint8_t(region & 1);
+    decode_color(epi.color_at(px, py), sample.rgb);
+  }
+  s.ok = ok;
+  for (int k = 0; k < 8; ++k)
+    s.probe[k] = spread[(column[0] >> (8 * k)) & 63] | spread[(column[1] >> (8 * k)) & 63] << 1;
+}
+
+// connected() on the boards of this kernel (stride 8).
+Regions connected_strided(const Joins& joins, int cell, int region) {
+  uint64_t c0 = region == 0 ? 1ull << cell : 0, c1 = region == 1 ? 1ull << cell : 0;
+  const std::array<uint64_t, 4>&h = joins[0], &d = joins[1];
+  for (;;) {
+    const uint64_t n0 = c0 | ((c0 & h[0]) << 1) | ((c1 & h[2]) << 1) | ((c0 >> 1) & h[0]) | ((c1 >> 1) & h[1]) |
+                        ((c0 & d[0]) << kStride) | ((c1 & d[2]) << kStride) | ((c0 >> kStride) & d[0]) |
+                        ((c1 >> kStride) & d[1]);
+    const uint64_t n1 = c1 | ((c0 & h[1]) << 1) | ((c1 & h[3]) << 1) | ((c0 >> 1) & h[2]) | ((c1 >> 1) & h[3]) |
+                        ((c0 & d[1]) << kStride) | ((c1 & d[3]) << kStride) | ((c0 >> kStride) & d[2]) |
+                        ((c1 >> kStride) & d[3]);
+    if (n0 == c0 && n1 == c1) return {{c0, c1}};
+    c0 = n0, c1 = n1;
+  }
+}
+
+// complex_impl<false> for the window of strips w (columns x - 1, x, x + 1).
+void complex_window(const Strip* const w[3], const float estimate[3], float out[3],
+                    const std::array<SubPixelGeometry, 256>& geometry) {
+  uint64_t ok = 0, probe[8] = {};
+  for (int i = 0; i < 3; ++i) {
+    ok |= w[i]->ok << (2 * i);
+    for (int b = 0; b < 8; ++b) probe[b] |= w[i]->probe[b] << (2 * i);
+  }
+  // The oracle's joins, as board operations: bit i of joins[dir][2 ra + rb] where both cells are
+  // usable and a probe k of the shared side sees region ra in cell i and rb in its neighbour.
+  Joins joins{};
+  for (int dir = 0; dir < 2; ++dir) {
+    const int s = dir == 0 ? 1 : kStride, a_side = dir == 0 ? 0 : 1, b_side = dir == 0 ? 2 : 3;
+    const uint64_t valid = ok & (ok >> s);
+    std::array<uint64_t, 4>& j = joins[size_t(dir)];
+    for (int k = 0; k < 2; ++k) {
+      const uint64_t a = probe[2 * a_side + k], b = probe[2 * b_side + k] >> s;
+      j[0] |= valid & ~a & ~b, j[1] |= valid & ~a & b, j[2] |= valid & a & ~b, j[3] |= valid & a & b;
+    }
+  }
+  Regions found[8];
+  int found_count = 0;
+  auto regions_of = [&](int cell, int region) -> const Regions& {
+    for (int k = 0; k < found_count; ++k)
+      if (found[k].has(cell, region)) return found[k];
+    found[found_count] = connected_strided(joins, cell, region);
+    return found[found_count++];
+  };
+
+  // The nine sample slots in the oracle's order (absent ones weigh 0: adding +0 changes no sum).
+  const std::array<float, 51>& weights = sample_weights();
+  auto region_color = [&](int u, int v, int region, float rgb[3]) {
+    const Regions& connected_to = regions_of(v * kStride + u, region);
+    float sum[3] = {0, 0, 0}, total = 0;
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) {
+        const Strip::Sample& s = w[i]->sample[j];
+        const int su = 2 * i + s.sx;
+        const float in = s.present * float((connected_to.board[s.region] >> (s.v * kStride + su)) & 1);
+        const float wk = in * weights[size_t((su - u) * (su - u) + (s.v - v) * (s.v - v))];
+        for (int c = 0; c < 3; ++c) sum[c] += wk * s.rgb[c];
+        total += wk;
+      }
+    for (int c = 0; c < 3; ++c) rgb[c] = total > 0 ? sum[c] / total : estimate[c];
+  };
+
+  // Each centre sub-pixel: its region colours, blended by area where simple; complex: the estimate.
+  float result[3] = {0, 0, 0};
+  for (int v = 2; v <= 3; ++v)
+    for (int u = 2; u <= 3; ++u) {
+      const CellKind kind = CellKind(w[1]->kind[v][u - 2]);
+      float rgb[3] = {estimate[0], estimate[1], estimate[2]};
+      if (kind == CellKind::empty) {
+        region_color(u, v, 0, rgb);
+      } else if (kind == CellKind::simple) {
+        float a_rgb[3], b_rgb[3];
+        region_color(u, v, 0, a_rgb);
+        region_color(u, v, 1, b_rgb);
+        const float a = geometry[w[1]->code[v][u - 2]].area;
+        for (int c = 0; c < 3; ++c) rgb[c] = a * a_rgb[c] + (1.0f - a) * b_rgb[c];
+      }
+      for (int c = 0; c < 3; ++c) result[c] += 0.25f * rgb[c];
+    }
+  out[0] = result[0], out[1] = result[1], out[2] = result[2];
+}
+
+// Prefetches what the window of complex pixel (x, y) reads: in the staged schedule its planes
+// are cold, and complex pixels are scattered, so without it the filter waits on memory. Always
+// inlined: GCC deletes calls of a function that only prefetches (it has no side effects).
+[[gnu::always_inline]] inline void prefetch_window(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
+                                                   const float* estimate, const float* out) {
+  const int x0 = std::max(x - 1, 0);
+  for (int py = std::max(y - 1, 0); py <= std::min(y + 1, epi.height - 1); ++py) {
+    const size_t i = masks.index(x0, py);
+    __builtin_prefetch(&masks.top[i]), __builtin_prefetch(&masks.left[i]);
+    __builtin_prefetch(&masks.centre_h[i]), __builtin_prefetch(&masks.centre_v[i]);
+    __builtin_prefetch(&masks.top[i + size_t(masks.width) + 1]);
+    __builtin_prefetch(epi.edge_row(py) + x0), __builtin_prefetch(epi.color_row(py) + x0);
+  }
+  __builtin_prefetch(estimate + 3 * x), __builtin_prefetch(out + 3 * x, 1);
+}
+
+}  // namespace
+
+void complex_row(const EpiRows& epi, const BoundaryMasks& masks, int y, const uint8_t* types, const float* estimate,
+                 float* out) {
+  const std::array<SubPixelGeometry, 256>& geometry = sub_pixel_geometry();
+  Strip cache[3];
+  // The row's complex pixels, found by memchr a chunk at a time, each prefetched kAhead before.
+  constexpr int kChunk = 64, kAhead = 6;
+  int xs[kChunk];
+  const size_t w = size_t(epi.width);
+  const uint8_t* p = static_cast<const uint8_t*>(std::memchr(types, kTypeComplex, w));
+  while (p) {
+    int n = 0;
+    for (; p && n < kChunk; p = static_cast<const uint8_t*>(std::memchr(p + 1, kTypeComplex, w - size_t(p + 1 - types))))
+      xs[n++] = int(p - types);
+    for (int k = 0; k < std::min(n, kAhead); ++k) prefetch_window(epi, masks, xs[k], y, estimate, out);
+    for (int k = 0; k < n; ++k) {
+      if (k + kAhead < n) prefetch_window(epi, masks, xs[k + kAhead], y, estimate, out);
+      const int x = xs[k];
+      // The strips of columns x - 1 .. x + 1: kept from the window before where it had them.
+      const Strip* window[3] = {};
+      bool taken[3] = {};
+      for (int i = 0; i < 3; ++i)
+        for (int c = 0; c < 3; ++c)
+          if (cache[c].px == x - 1 + i) window[i] = &cache[c], taken[c] = true;
+      for (int i = 0; i < 3; ++i) {
+        if (window[i]) continue;
+        int c = 0;
+        while (taken[c]) ++c;
+        fill_strip(cache[c], epi, masks, x - 1 + i, y, geometry);
+        window[i] = &cache[c], taken[c] = true;
+      }
+      complex_window(window, estimate + 3 * x, out + 3 * x, geometry);
+    }
+  }
+}
 
 void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
                    float out[3]) {

@@ -20,6 +20,18 @@ namespace epi {
 void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
                    float out[3]);
 
+// The filter's row kernel: complex_pixel for every complex pixel of row y (types[x] ==
+// kTypeComplex), bit for bit, from the row's estimates (3 floats per pixel) into out; other
+// pixels untouched. Each pixel column's sub-pixels and sample are computed once for the up to
+// three windows that hold them, and joins from bitboards (docs/epi.md, "Complex pixels").
+void complex_row(const EpiRows& epi, const BoundaryMasks& masks, int y, const uint8_t* types, const float* estimate,
+                 float* out);
+
+// The class of a sub-pixel (n = 4) by its side masks, index top | right << 4 | bottom << 8 |
+// left << 12, as complex_row computes it: kind in bits 0-1, p_low in 2-5, p_high in 6-9 of
+// geom::classify_cell. Exposed for its test.
+uint16_t sub_cell_class(uint32_t index);
+
 // What complex_pixel did, for the visualizer's trace (trace.h). Sub-pixel (u, v), u, v in 0..5,
 // covers pixel (x - 1 + u / 2, y - 1 + v / 2); the pixel's own are u, v in 2..3.
 struct ComplexTrace {

@@ -328,8 +328,9 @@ void complex_stage(RowJob& j, int y) {
   const uint8_t* types = j.types.row(y);
   const float* filled = j.filled.row(y);
   float* out = j.image.row(y);
-  // Complex pixels are few (0.3-3 %): found by memchr, not by a test per pixel.
   static_assert(output_filter({}, true, kTypeComplex) == OutputFilter::complex_filter);
+  if (j.kernels) return complex_row(epi, j.masks, y, types, filled, out);
+  // Complex pixels are few (0.3-3 %): found by memchr, not by a test per pixel.
   const size_t w = size_t(j.width);
   for (auto* p = static_cast<const uint8_t*>(std::memchr(types, kTypeComplex, w)); p;
        p = static_cast<const uint8_t*>(std::memchr(p + 1, kTypeComplex, w - size_t(p + 1 - types)))) {
