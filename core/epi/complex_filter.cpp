@@ -265,7 +265,8 @@ const std::array<float, 51>& sample_weights() {
 // scattered reads missed the caches): classify_cell's own rules (at most one crossing: empty;
 // more than two: complex), and for exactly two a table by the pair, built from classify_cell.
 // Equal to the table for all 65,536 indices (tests/epi/complex_filter_test.cpp).
-uint16_t sub_cell_class(uint32_t index) {
+namespace {
+inline uint16_t sub_class(uint32_t index) {
   static const std::array<uint16_t, 256> pairs = [] {
     std::array<uint16_t, 256> t{};
     for (int a = 0; a < 16; ++a)
@@ -282,6 +283,9 @@ uint16_t sub_cell_class(uint32_t index) {
   const uint16_t one_or_two = rest == 0 ? uint16_t(CellKind::empty) : pair;
   return (rest & (rest - 1)) != 0 ? uint16_t(CellKind::complex) : one_or_two;
 }
+}  // namespace
+
+uint16_t sub_cell_class(uint32_t index) { return sub_class(index); }
 
 namespace {
 
@@ -336,7 +340,7 @@ void fill_strip(Strip& s, const EpiRows& epi, const BoundaryMasks& masks, int px
       for (int sx = 0; sx < 2; ++sx) {
         const uint32_t t = half(sy == 0 ? top : centre_h, sx), r = half(sx == 0 ? centre_v : right, sy);
         const uint32_t b = half(sy == 0 ? centre_h : bottom, sx), l = half(sx == 0 ? left : centre_v, sy);
-        const uint32_t c = sub_cell_class(t | r << 4 | b << 8 | l << 12), kind = c & 3;
+        const uint32_t c = sub_class(t | r << 4 | b << 8 | l << 12), kind = c & 3;
         const uint32_t code = (((c >> 2) & 15) * 16 + (c >> 6)) & (0u - uint32_t(kind == uint32_t(CellKind::simple)));
         const int v = 2 * j + sy, pos = v * kStride + sx;
         s.kind[v][sx] = uint8_t(kind), s.code[v][sx] = uint8_t(code);
@@ -401,20 +405,32 @@ void complex_window(const Strip* const w[3], const float estimate[3], float out[
     return found[found_count++];
   };
 
-  // The nine sample slots in the oracle's order (absent ones weigh 0: adding +0 changes no sum).
+  // The samples in the oracle's order; one not joined to a region weighs 0 there (adding +0
+  // changes no sum).
+  struct Placed {
+    int cell, region, u, v;
+    const float* rgb;
+  };
+  Placed samples[9];
+  int count = 0;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      const Strip::Sample& s = w[i]->sample[j];
+      const int u = 2 * i + s.sx;
+      samples[count] = {s.v * kStride + u, s.region, u, s.v, s.rgb};
+      count += s.present != 0;
+    }
   const std::array<float, 51>& weights = sample_weights();
   auto region_color = [&](int u, int v, int region, float rgb[3]) {
     const Regions& connected_to = regions_of(v * kStride + u, region);
     float sum[3] = {0, 0, 0}, total = 0;
-    for (int j = 0; j < 3; ++j)
-      for (int i = 0; i < 3; ++i) {
-        const Strip::Sample& s = w[i]->sample[j];
-        const int su = 2 * i + s.sx;
-        const float in = s.present * float((connected_to.board[s.region] >> (s.v * kStride + su)) & 1);
-        const float wk = in * weights[size_t((su - u) * (su - u) + (s.v - v) * (s.v - v))];
-        for (int c = 0; c < 3; ++c) sum[c] += wk * s.rgb[c];
-        total += wk;
-      }
+    for (int k = 0; k < count; ++k) {
+      const Placed& s = samples[k];
+      const float in = float((connected_to.board[s.region] >> s.cell) & 1);
+      const float wk = in * weights[size_t((s.u - u) * (s.u - u) + (s.v - v) * (s.v - v))];
+      for (int c = 0; c < 3; ++c) sum[c] += wk * s.rgb[c];
+      total += wk;
+    }
     for (int c = 0; c < 3; ++c) rgb[c] = total > 0 ? sum[c] / total : estimate[c];
   };
 
