@@ -259,36 +259,6 @@ const std::array<float, 51>& sample_weights() {
   return table;
 }
 
-}  // namespace
-
-// geom::classify_cell(sides, 4) as sub_cell_classes() encodes it, without its 128 KB (whose
-// scattered reads missed the caches): classify_cell's own rules (at most one crossing: empty;
-// more than two: complex), and for exactly two a table by the pair, built from classify_cell.
-// Equal to the table for all 65,536 indices (tests/epi/complex_filter_test.cpp).
-namespace {
-inline uint16_t sub_class(uint32_t index) {
-  static const std::array<uint16_t, 256> pairs = [] {
-    std::array<uint16_t, 256> t{};
-    for (int a = 0; a < 16; ++a)
-      for (int b = a + 1; b < 16; ++b) {
-        const uint32_t i = 1u << a | 1u << b;
-        const uint8_t sides[4] = {uint8_t(i & 15), uint8_t((i >> 4) & 15), uint8_t((i >> 8) & 15), uint8_t(i >> 12)};
-        const geom::CellClass c = geom::classify_cell(sides, 4);
-        t[size_t(a * 16 + b)] = uint16_t(int(c.kind) | c.p_low << 2 | c.p_high << 6);
-      }
-    return t;
-  }();
-  const uint32_t rest = index & (index - 1);  // without the lowest crossing
-  const uint16_t pair = pairs[size_t((__builtin_ctz(index | 0x10000) & 15) * 16 + (__builtin_ctz(rest | 0x10000) & 15))];
-  const uint16_t one_or_two = rest == 0 ? uint16_t(CellKind::empty) : pair;
-  return (rest & (rest - 1)) != 0 ? uint16_t(CellKind::complex) : one_or_two;
-}
-}  // namespace
-
-uint16_t sub_cell_class(uint32_t index) { return sub_class(index); }
-
-namespace {
-
 // Spreads bit k of a byte to bit 8k (probe bits into a strip column; a 6-bit column into a board).
 const std::array<uint64_t, 256>& spread_bits_to_bytes() {
   static const std::array<uint64_t, 256> table = [] {
@@ -300,10 +270,52 @@ const std::array<uint64_t, 256>& spread_bits_to_bytes() {
   return table;
 }
 
+// A sub-pixel as the row kernel needs it, by its crossings: geom::classify_cell(sides, 4) as
+// sub_cell_classes() encodes it, without that table's 128 KB (whose scattered reads missed the
+// caches), and the edge's probe bits spread one per byte.
+struct SubCell {
+  uint64_t probes;  // SubPixelGeometry::probe_bits, bit k at bit 8k (0 unless simple)
+  uint16_t cls;     // kind | p_low << 2 | p_high << 6
+  uint8_t kind, code;  // code: 16 p_low + p_high where simple, else 0
+};
+// Entries 0-255: two crossings, by 16 a + b (a < b their bit indices), from classify_cell itself;
+// 256: at most one crossing (empty); 257: more than two (complex): classify_cell's own rules.
+const std::array<SubCell, 258>& sub_cells() {
+  static const std::array<SubCell, 258> table = [] {
+    std::array<SubCell, 258> t{};
+    const auto& spread = spread_bits_to_bytes();
+    const auto& geometry = sub_pixel_geometry();
+    for (int a = 0; a < 16; ++a)
+      for (int b = a + 1; b < 16; ++b) {
+        const uint32_t i = 1u << a | 1u << b;
+        const uint8_t sides[4] = {uint8_t(i & 15), uint8_t((i >> 4) & 15), uint8_t((i >> 8) & 15), uint8_t(i >> 12)};
+        const geom::CellClass c = geom::classify_cell(sides, 4);
+        const uint8_t code = c.kind == CellKind::simple ? uint8_t(c.p_low * 16 + c.p_high) : 0;
+        t[size_t(a * 16 + b)] = {spread[geometry[code].probe_bits], uint16_t(int(c.kind) | c.p_low << 2 | c.p_high << 6),
+                                 uint8_t(c.kind), code};
+      }
+    t[256] = {0, uint16_t(CellKind::empty), uint8_t(CellKind::empty), 0};
+    t[257] = {0, uint16_t(CellKind::complex), uint8_t(CellKind::complex), 0};
+    return t;
+  }();
+  return table;
+}
+// The entry of a sub-pixel by its side masks (index top | right << 4 | bottom << 8 | left << 12).
+inline size_t sub_cell_entry(uint32_t index) {
+  const uint32_t rest = index & (index - 1);  // without the lowest crossing
+  const size_t pair = size_t((__builtin_ctz(index | 0x10000) & 15) * 16 + (__builtin_ctz(rest | 0x10000) & 15));
+  const size_t one_or_two = rest == 0 ? 256 : pair;
+  return (rest & (rest - 1)) != 0 ? 257 : one_or_two;
+}
+
+}  // namespace
+
+uint16_t sub_cell_class(uint32_t index) { return sub_cells()[sub_cell_entry(index)].cls; }
+
+namespace {
+
 // One pixel column of a window (pixels (px, y - 1 .. y + 1)): its 2x6 sub-pixels and 3 samples,
-// computed once per row and shared by the windows of up to three complex pixels. Computed and
-// used without branches on the data where that is cheap (mispredictions, not memory, were most
-// of the filter's time; docs/epi.md).
+// computed once per row and shared by the windows of up to three complex pixels.
 struct Strip {
   int px = -2;  // the column; -2: none (never asked: columns start at -1)
   // Boards of the strip's two columns (bits v * 8 + sx): not complex (inside the image), and
@@ -321,6 +333,7 @@ struct Strip {
 void fill_strip(Strip& s, const EpiRows& epi, const BoundaryMasks& masks, int px, int y,
                 const std::array<SubPixelGeometry, 256>& geometry) {
   const std::array<uint64_t, 256>& spread = spread_bits_to_bytes();
+  const std::array<SubCell, 258>& cells = sub_cells();
   s.px = px;
   uint64_t ok = 0, column[2] = {};  // column[sx]: bit 8k + v = probe bit k of sub-pixel (sx, v)
   const size_t row_stride = size_t(masks.width) + 1;
@@ -340,12 +353,11 @@ void fill_strip(Strip& s, const EpiRows& epi, const BoundaryMasks& masks, int px
       for (int sx = 0; sx < 2; ++sx) {
         const uint32_t t = half(sy == 0 ? top : centre_h, sx), r = half(sx == 0 ? centre_v : right, sy);
         const uint32_t b = half(sy == 0 ? centre_h : bottom, sx), l = half(sx == 0 ? left : centre_v, sy);
-        const uint32_t c = sub_class(t | r << 4 | b << 8 | l << 12), kind = c & 3;
-        const uint32_t code = (((c >> 2) & 15) * 16 + (c >> 6)) & (0u - uint32_t(kind == uint32_t(CellKind::simple)));
-        const int v = 2 * j + sy, pos = v * kStride + sx;
-        s.kind[v][sx] = uint8_t(kind), s.code[v][sx] = uint8_t(code);
-        ok |= uint64_t(kind != uint32_t(CellKind::complex)) << pos;
-        column[sx] |= spread[geometry[code].probe_bits] << v;
+        const SubCell& cell = cells[sub_cell_entry(t | r << 4 | b << 8 | l << 12)];
+        const int v = 2 * j + sy;
+        s.kind[v][sx] = cell.kind, s.code[v][sx] = cell.code;
+        ok |= uint64_t(cell.kind != uint8_t(CellKind::complex)) << (v * kStride + sx);
+        column[sx] |= cell.probes << v;
       }
     const uint16_t e = epi.edge_at(px, py);
     const int r = sample_region(e), rx = r & 3, ry = r >> 2, sx = rx >> 1, v = 2 * j + (ry >> 1);
