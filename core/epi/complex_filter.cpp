@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <memory>
+#include <vector>
 #include <utility>
 
 #include "epi/geometry.h"
@@ -330,13 +332,69 @@ struct Strip {
   } sample[3];
 };
 
-void fill_strip(Strip& s, const EpiRows& epi, const BoundaryMasks& masks, int px, int y,
-                const std::array<SubPixelGeometry, 256>& geometry) {
-  const std::array<uint64_t, 256>& spread = spread_bits_to_bytes();
+}  // namespace
+
+// One pixel's sub-pixels and sample as strips take them (ComplexRowCache).
+struct ComplexRowCache::Pixel {
+  uint64_t stamp = 0;   // generation << 32 | row: computed for that row in that generation
+  uint64_t column[2];   // column[sx]: bit 8k + sy = probe bit k of sub-pixel (sx, sy)
+  uint16_t ok;          // bit 8 sy + sx: sub-pixel (sx, sy) not complex
+  uint8_t kind[2][2];   // [sy][sx]
+  uint8_t code[2][2];
+  float present;        // the sample: 1 in a region (not dropped), else 0
+  uint8_t sx, sy, region;
+  float rgb[3];         // finite also when absent
+};
+struct ComplexRowCache::Rows {
+  std::vector<Pixel> row[4];  // image row py at row[py & 3]
+  uint64_t generation = 1;
+  int width = -1;
+};
+ComplexRowCache::ComplexRowCache() : rows_(std::make_unique<Rows>()) {}
+ComplexRowCache::ComplexRowCache(const ComplexRowCache&) : ComplexRowCache() {}
+ComplexRowCache& ComplexRowCache::operator=(const ComplexRowCache&) {
+  reset();
+  return *this;
+}
+ComplexRowCache::~ComplexRowCache() = default;
+void ComplexRowCache::reset() { ++rows_->generation; }
+
+namespace {
+
+using Pixel = ComplexRowCache::Pixel;
+
+void compute_pixel(Pixel& p, const EpiRows& epi, const BoundaryMasks& masks, int px, int py,
+                   const std::array<SubPixelGeometry, 256>& geometry) {
   const std::array<SubCell, 258>& cells = sub_cells();
+  const size_t i = masks.index(px, py);
+  const uint32_t top = masks.top[i], bottom = masks.top[i + size_t(masks.width) + 1], left = masks.left[i],
+                 right = masks.left[i + 1], centre_h = masks.centre_h[i], centre_v = masks.centre_v[i];
+  uint64_t column[2] = {};
+  uint32_t ok = 0;
+  for (int sy = 0; sy < 2; ++sy)
+    for (int sx = 0; sx < 2; ++sx) {
+      const uint32_t t = half(sy == 0 ? top : centre_h, sx), r = half(sx == 0 ? centre_v : right, sy);
+      const uint32_t b = half(sy == 0 ? centre_h : bottom, sx), l = half(sx == 0 ? left : centre_v, sy);
+      const SubCell& cell = cells[sub_cell_entry(t | r << 4 | b << 8 | l << 12)];
+      p.kind[sy][sx] = cell.kind, p.code[sy][sx] = cell.code;
+      ok |= uint32_t(cell.kind != uint8_t(CellKind::complex)) << (sy * kStride + sx);
+      column[sx] |= cell.probes << sy;
+    }
+  p.column[0] = column[0], p.column[1] = column[1], p.ok = uint16_t(ok);
+  const uint16_t e = epi.edge_at(px, py);
+  const int r = sample_region(e), rx = r & 3, ry = r >> 2, sx = rx >> 1, sy = ry >> 1;
+  const bool complex = p.kind[sy][sx] == uint8_t(CellKind::complex);
+  const int region = complex ? 3 : geometry[p.code[sy][sx]].quarter[(rx & 1) + 2 * (ry & 1)];
+  p.present = float(has_sample(e) && region < 2);
+  p.sx = uint8_t(sx), p.sy = uint8_t(sy), p.region = uint8_t(region & 1);
+  decode_color(epi.color_at(px, py), p.rgb);
+}
+
+void fill_strip(Strip& s, const EpiRows& epi, const BoundaryMasks& masks, int px, int y,
+                const std::array<SubPixelGeometry, 256>& geometry, ComplexRowCache::Rows& cache) {
+  const std::array<uint64_t, 256>& spread = spread_bits_to_bytes();
   s.px = px;
   uint64_t ok = 0, column[2] = {};  // column[sx]: bit 8k + v = probe bit k of sub-pixel (sx, v)
-  const size_t row_stride = size_t(masks.width) + 1;
   for (int j = 0; j < 3; ++j) {
     const int py = y - 1 + j;
     Strip::Sample& sample = s.sample[j];
@@ -346,26 +404,15 @@ void fill_strip(Strip& s, const EpiRows& epi, const BoundaryMasks& masks, int px
       sample = {0.0f, 0, uint8_t(2 * j), 0, {0, 0, 0}};
       continue;
     }
-    const size_t i = masks.index(px, py);
-    const uint32_t top = masks.top[i], bottom = masks.top[i + row_stride], left = masks.left[i],
-                   right = masks.left[i + 1], centre_h = masks.centre_h[i], centre_v = masks.centre_v[i];
+    Pixel& p = cache.row[py & 3][size_t(px)];
+    const uint64_t stamp = cache.generation << 32 | uint32_t(py);
+    if (p.stamp != stamp) compute_pixel(p, epi, masks, px, py, geometry), p.stamp = stamp;
     for (int sy = 0; sy < 2; ++sy)
-      for (int sx = 0; sx < 2; ++sx) {
-        const uint32_t t = half(sy == 0 ? top : centre_h, sx), r = half(sx == 0 ? centre_v : right, sy);
-        const uint32_t b = half(sy == 0 ? centre_h : bottom, sx), l = half(sx == 0 ? left : centre_v, sy);
-        const SubCell& cell = cells[sub_cell_entry(t | r << 4 | b << 8 | l << 12)];
-        const int v = 2 * j + sy;
-        s.kind[v][sx] = cell.kind, s.code[v][sx] = cell.code;
-        ok |= uint64_t(cell.kind != uint8_t(CellKind::complex)) << (v * kStride + sx);
-        column[sx] |= cell.probes << v;
-      }
-    const uint16_t e = epi.edge_at(px, py);
-    const int r = sample_region(e), rx = r & 3, ry = r >> 2, sx = rx >> 1, v = 2 * j + (ry >> 1);
-    const bool complex = s.kind[v][sx] == uint8_t(CellKind::complex);
-    const int region = complex ? 3 : geometry[s.code[v][sx]].quarter[(rx & 1) + 2 * (ry & 1)];
-    sample.present = float(has_sample(e) && region < 2);
-    sample.sx = uint8_t(sx), sample.v = uint8_t(v), sample.region = uint8_t(region & 1);
-    decode_color(epi.color_at(px, py), sample.rgb);
+      for (int sx = 0; sx < 2; ++sx) s.kind[2 * j + sy][sx] = p.kind[sy][sx], s.code[2 * j + sy][sx] = p.code[sy][sx];
+    ok |= uint64_t(p.ok) << (2 * j * kStride);
+    column[0] |= p.column[0] << (2 * j), column[1] |= p.column[1] << (2 * j);
+    sample.present = p.present, sample.sx = p.sx, sample.v = uint8_t(2 * j + p.sy), sample.region = p.region;
+    sample.rgb[0] = p.rgb[0], sample.rgb[1] = p.rgb[1], sample.rgb[2] = p.rgb[2];
   }
   s.ok = ok;
   for (int k = 0; k < 8; ++k)
@@ -485,8 +532,13 @@ void complex_window(const Strip* const w[3], const float estimate[3], float out[
 }  // namespace
 
 void complex_row(const EpiRows& epi, const BoundaryMasks& masks, int y, const uint8_t* types, const float* estimate,
-                 float* out) {
+                 float* out, ComplexRowCache& row_cache) {
   const std::array<SubPixelGeometry, 256>& geometry = sub_pixel_geometry();
+  ComplexRowCache::Rows& rows = *row_cache.rows_;
+  if (rows.width != epi.width) {
+    for (std::vector<Pixel>& r : rows.row) r.assign(size_t(epi.width), Pixel{});
+    rows.width = epi.width, ++rows.generation;
+  }
   Strip cache[3];
   // The row's complex pixels, found by memchr a chunk at a time, each prefetched kAhead before.
   constexpr int kChunk = 64, kAhead = 6;
@@ -511,7 +563,7 @@ void complex_row(const EpiRows& epi, const BoundaryMasks& masks, int y, const ui
         if (window[i]) continue;
         int c = 0;
         while (taken[c]) ++c;
-        fill_strip(cache[c], epi, masks, x - 1 + i, y, geometry);
+        fill_strip(cache[c], epi, masks, x - 1 + i, y, geometry, rows);
         window[i] = &cache[c], taken[c] = true;
       }
       complex_window(window, estimate + 3 * x, out + 3 * x, geometry);

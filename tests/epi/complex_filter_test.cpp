@@ -176,7 +176,7 @@ TEST(ComplexRow, SubPixelClassEqualsClassifyCellEverywhere) {
 // complex_row against complex_pixel, bit for bit: once over the real types (only complex pixels
 // written, the others untouched), once with every pixel marked complex (every window position,
 // image borders included); random estimates. Returns the complex count.
-int expect_row_equal(const test::Built& b, uint64_t seed, const std::string& what) {
+int expect_row_equal(const test::Built& b, uint64_t seed, const std::string& what, ComplexRowCache& cache) {
   SCOPED_TRACE(what);
   const Reconstruction r = reconstruct_oracle(b.epi, b.masks, {});
   const int w = b.epi.width, h = b.epi.height;
@@ -187,13 +187,14 @@ int expect_row_equal(const test::Built& b, uint64_t seed, const std::string& wha
   std::uniform_real_distribution<float> unit(0.0f, 1.0f);
   std::vector<float> estimate(3 * size_t(w));
   const std::vector<uint8_t> all_complex(static_cast<size_t>(w), uint8_t{kTypeComplex});
+  cache.reset();  // another image; then kept over the rows (in order, as in the stages)
   int complex = 0, mismatches = 0;
   for (int y = 0; y < h; ++y)
     for (bool every : {false, true}) {
       for (float& e : estimate) e = unit(rng);
       const uint8_t* row_types = every ? all_complex.data() : &types[size_t(y) * size_t(w)];
       std::vector<float> fast(3 * size_t(w), -1.0f), ref = fast;
-      complex_row(rows, b.masks, y, row_types, estimate.data(), fast.data());
+      complex_row(rows, b.masks, y, row_types, estimate.data(), fast.data(), cache);
       for (int x = 0; x < w; ++x)
         if (row_types[x] == kTypeComplex) complex_pixel(rows, b.masks, x, y, &estimate[3 * size_t(x)], &ref[3 * size_t(x)]);
       for (int x = 0; x < w; ++x) {
@@ -210,23 +211,25 @@ int expect_row_equal(const test::Built& b, uint64_t seed, const std::string& wha
 
 TEST(ComplexRow, EqualsComplexPixelOnRandomPatterns) {
   std::mt19937_64 rng(77);
+  ComplexRowCache cache;  // one for all: reset() between images (sizes vary) must be enough
   int complex = 0;
   for (int trial = 0; trial < 40; ++trial) {
     const int w = 1 + int(rng() % 70), h = 1 + int(rng() % 30);
     const uint64_t seed = rng();
     const double density = double(rng() % 101) / 100.0;
     complex += expect_row_equal(test::build(test::random_pattern(w, h, 3 + int(rng() % 60), seed), density, seed), seed,
-                                "trial " + std::to_string(trial) + ", " + std::to_string(w) + "x" + std::to_string(h));
+                                "trial " + std::to_string(trial) + ", " + std::to_string(w) + "x" + std::to_string(h), cache);
   }
   EXPECT_GT(complex, 300);
 }
 
 TEST(ComplexRow, EqualsComplexPixelOnExtremes) {
   // Nearly every pixel complex, also cut to one row, one column and one pixel.
+  ComplexRowCache cache;
   for (auto [w, h] : {std::pair{19, 11}, {33, 1}, {1, 17}, {1, 1}, {2, 2}, {64, 3}, {65, 2}})
     for (double d : {0.0, 0.3, 1.0}) {
       const int complex = expect_row_equal(test::build(test::fine_checker(w, h), d, 5), 9,
-                                           "checker " + std::to_string(w) + "x" + std::to_string(h));
+                                           "checker " + std::to_string(w) + "x" + std::to_string(h), cache);
       if (w * h > 100) {
         EXPECT_GT(complex, w * h / 2);
       }
@@ -237,7 +240,7 @@ TEST(ComplexRow, EqualsComplexPixelOnExtremes) {
   q.polygons.push_back({{1, 1, 0}, {{3, 2}, {9, 2}, {9, 8}, {3, 8}}});
   q.polygons.push_back({{0, 1, 1}, {{12.5, 0}, {20, 7.5}, {12.5, 7.5}}});
   q.polygons.push_back({{1, 0, 1}, {{0, 10}, {21, 10.5}, {21, 11}, {0, 11}}});
-  for (double d : {0.2, 1.0}) expect_row_equal(test::build(q, d, 6), 10, "borders");
+  for (double d : {0.2, 1.0}) expect_row_equal(test::build(q, d, 6), 10, "borders", cache);
 }
 
 }  // namespace
