@@ -1,8 +1,9 @@
-// The complex-pixel filter (complex_filter.cpp: lookup tables, six mask bytes per pixel, a byte
-// union-find) against a plain reference written from its description: geom::classify_cell and
-// geom::cell_edge per sub-pixel, regions joined by relaxing labels over the probe pairs, the
-// same float sums in the same order. Bit for bit, on every pixel (complex or not) of random
-// patterns, dense checkers and patterns with edges along pixel borders.
+// The complex-pixel filter (complex_filter.cpp) against a plain reference written from its
+// description: geom::classify_cell and geom::cell_edge per sub-pixel, regions joined by relaxing
+// labels over the probe pairs, the same float sums in the same order. Bit for bit, on every
+// pixel (complex or not) of random patterns, dense checkers and patterns with edges along pixel
+// borders. Then the row kernel complex_row against complex_pixel, bit for bit, on the same kinds
+// of patterns and the extreme sizes.
 #include <gtest/gtest.h>
 
 #include <cstring>
