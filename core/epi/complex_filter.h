@@ -8,6 +8,7 @@
 // their two regions by area; complex sub-pixels and regions with no sample use the estimate.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "epi/geometry.h"
@@ -19,6 +20,37 @@ namespace epi {
 // Reads rows y-1..y+1 of `epi` (samples) and of the masks.
 void complex_pixel(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, const float estimate[3],
                    float out[3]);
+
+// Each pixel's sub-pixels and sample as complex_row computed them, kept for the rows after
+// (one per thread; a copy starts empty). reset() before rows of another image, or of the same
+// image after its rows changed: the cache only knows rows by number.
+class ComplexRowCache {
+ public:
+  ComplexRowCache();
+  ComplexRowCache(const ComplexRowCache&);
+  ComplexRowCache& operator=(const ComplexRowCache&);
+  ~ComplexRowCache();
+  void reset();
+  struct Pixel;
+  struct Rows;
+
+ private:
+  friend void complex_row(const EpiRows&, const BoundaryMasks&, int, const uint8_t*, const float*, float*,
+                          ComplexRowCache&);
+  std::unique_ptr<Rows> rows_;
+};
+
+// The filter's row kernel: complex_pixel for every complex pixel of row y (types[x] ==
+// kTypeComplex), bit for bit, from the row's estimates (3 floats per pixel) into out; other
+// pixels untouched. Each pixel's sub-pixels and sample are computed once for all the windows
+// that hold it (through `cache`), joins come from bitboards (docs/epi.md, "Complex pixels").
+void complex_row(const EpiRows& epi, const BoundaryMasks& masks, int y, const uint8_t* types, const float* estimate,
+                 float* out, ComplexRowCache& cache);
+
+// The class of a sub-pixel (n = 4) by its side masks, index top | right << 4 | bottom << 8 |
+// left << 12, as complex_row computes it: kind in bits 0-1, p_low in 2-5, p_high in 6-9 of
+// geom::classify_cell. Exposed for its test.
+uint16_t sub_cell_class(uint32_t index);
 
 // What complex_pixel did, for the visualizer's trace (trace.h). Sub-pixel (u, v), u, v in 0..5,
 // covers pixel (x - 1 + u / 2, y - 1 + v / 2); the pixel's own are u, v in 2..3.

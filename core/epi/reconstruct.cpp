@@ -161,6 +161,7 @@ struct RowJob {
   // ring of kRelationRows rows of four planes; rows below relations_next are computed (this run).
   uint8_t* relations = nullptr;
   int relations_next = -1;
+  ComplexRowCache* complex_cache = nullptr;  // the complex filter's (with kernels), reset per job
 
   bool owned(int y) const { return y >= own_first && y <= own_last; }
   bool inside(int y) const { return y >= 0 && y < height; }
@@ -333,8 +334,9 @@ void complex_stage(RowJob& j, int y) {
   const uint8_t* types = j.types.row(y);
   const float* filled = j.filled.row(y);
   float* out = j.image.row(y);
-  // Complex pixels are few (0.3-3 %): found by memchr, not by a test per pixel.
   static_assert(output_filter({}, true, kTypeComplex) == OutputFilter::complex_filter);
+  if (j.kernels) return complex_row(epi, j.masks, y, types, filled, out, *j.complex_cache);
+  // Complex pixels are few (0.3-3 %): found by memchr, not by a test per pixel.
   const size_t w = size_t(j.width);
   for (auto* p = static_cast<const uint8_t*>(std::memchr(types, kTypeComplex, w)); p;
        p = static_cast<const uint8_t*>(std::memchr(p + 1, kTypeComplex, w - size_t(p + 1 - types)))) {
@@ -354,6 +356,7 @@ struct ThreadScratch {
   PlaneStore rings;
   std::vector<float> priority;
   std::vector<uint8_t> relations;
+  ComplexRowCache complex_cache;
   void resize(int w) {
     if (relations.size() != kRelationRows * relations_stride(w)) relations.assign(kRelationRows * relations_stride(w), 0);
     static_assert(ring_rows(Plane::samples) <= kClassRingRows, "decoded rows live in rings of the classified rows' size");
@@ -455,6 +458,7 @@ void Reconstructor::staged(const EpiImage& epi, const BoundaryMasks& masks, cons
         job.stage_first = range.begin(), job.reuse_reach = schedule.reach_symmetry;
         job.reuse_relations = schedule.reuse_relations;
         job.relations = local.relations.data();
+        job.complex_cache = &local.complex_cache, local.complex_cache.reset();
         for (int y = range.begin(); y != range.end(); ++y) run_stage_row(stage.stage, job, y);
       });
       times[stage.stage] = ms_since(t);
@@ -505,6 +509,7 @@ void Reconstructor::tiled(const EpiImage& epi, const BoundaryMasks& masks, const
                ring.zero_samples.data(), ring.outside_types.data()};
     job.reuse_reach = schedule.reach_symmetry, job.reuse_relations = schedule.reuse_relations;
     job.relations = local.relations.data();
+    job.complex_cache = &local.complex_cache, local.complex_cache.reset();
     job.stage_first = first[size_t(Stage::reachability)];
     const int classified_first = first[size_t(Stage::classify)];
     for (int y = classified_first; y <= last[size_t(Stage::classify)] + kMaxLag; ++y)

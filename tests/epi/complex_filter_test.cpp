@@ -1,13 +1,15 @@
-// The complex-pixel filter (complex_filter.cpp: lookup tables, six mask bytes per pixel, a byte
-// union-find) against a plain reference written from its description: geom::classify_cell and
-// geom::cell_edge per sub-pixel, regions joined by relaxing labels over the probe pairs, the
-// same float sums in the same order. Bit for bit, on every pixel (complex or not) of random
-// patterns, dense checkers and patterns with edges along pixel borders.
+// The complex-pixel filter (complex_filter.cpp) against a plain reference written from its
+// description: geom::classify_cell and geom::cell_edge per sub-pixel, regions joined by relaxing
+// labels over the probe pairs, the same float sums in the same order. Bit for bit, on every
+// pixel (complex or not) of random patterns, dense checkers and patterns with edges along pixel
+// borders. Then the row kernel complex_row against complex_pixel, bit for bit, on the same kinds
+// of patterns and the extreme sizes.
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "epi/complex_filter.h"
@@ -158,6 +160,88 @@ TEST(ComplexFilter, EqualsThePlainReferenceOnCheckersAndBorders) {
   q.polygons.push_back({{0, 1, 1}, {{12.5, 0}, {20, 7.5}, {12.5, 7.5}}});
   q.polygons.push_back({{1, 0, 1}, {{0, 10}, {21, 10.5}, {21, 11}, {0, 11}}});
   for (double d : {0.2, 1.0}) expect_equal_everywhere(test::build(q, d, 6), 10, "borders");
+}
+
+// The row kernel's sub-pixel classes (no 65,536-entry table) equal geom::classify_cell's.
+TEST(ComplexRow, SubPixelClassEqualsClassifyCellEverywhere) {
+  int mismatches = 0;
+  for (uint32_t i = 0; i < 65536; ++i) {
+    const uint8_t sides[4] = {uint8_t(i & 15), uint8_t((i >> 4) & 15), uint8_t((i >> 8) & 15), uint8_t(i >> 12)};
+    const geom::CellClass c = geom::classify_cell(sides, 4);
+    if (sub_cell_class(i) != uint16_t(int(c.kind) | c.p_low << 2 | c.p_high << 6) && ++mismatches <= 5)
+      ADD_FAILURE() << "sides index " << i;
+  }
+  EXPECT_EQ(mismatches, 0);
+}
+
+// complex_row against complex_pixel, bit for bit: once over the real types (only complex pixels
+// written, the others untouched), once with every pixel marked complex (every window position,
+// image borders included); random estimates. Returns the complex count.
+int expect_row_equal(const test::Built& b, uint64_t seed, const std::string& what, ComplexRowCache& cache) {
+  SCOPED_TRACE(what);
+  const Reconstruction r = reconstruct_oracle(b.epi, b.masks, {});
+  const int w = b.epi.width, h = b.epi.height;
+  std::vector<uint8_t> types(r.cache.size());
+  for (size_t i = 0; i < types.size(); ++i) types[i] = uint8_t(pixel_type(r.cache[i]));
+  const EpiRows rows{r.edge.data(), types.data(), b.epi.color.data(), w, h};
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<float> estimate(3 * size_t(w));
+  const std::vector<uint8_t> all_complex(static_cast<size_t>(w), uint8_t{kTypeComplex});
+  cache.reset();  // another image; then kept over the rows (in order, as in the stages)
+  int complex = 0, mismatches = 0;
+  for (int y = 0; y < h; ++y)
+    for (bool every : {false, true}) {
+      for (float& e : estimate) e = unit(rng);
+      const uint8_t* row_types = every ? all_complex.data() : &types[size_t(y) * size_t(w)];
+      std::vector<float> fast(3 * size_t(w), -1.0f), ref = fast;
+      complex_row(rows, b.masks, y, row_types, estimate.data(), fast.data(), cache);
+      for (int x = 0; x < w; ++x)
+        if (row_types[x] == kTypeComplex) complex_pixel(rows, b.masks, x, y, &estimate[3 * size_t(x)], &ref[3 * size_t(x)]);
+      for (int x = 0; x < w; ++x) {
+        complex += !every && row_types[x] == kTypeComplex;
+        if (std::memcmp(&fast[3 * size_t(x)], &ref[3 * size_t(x)], 3 * sizeof(float)) != 0 && ++mismatches <= 5)
+          ADD_FAILURE() << "pixel " << x << "," << y << (every ? " (all marked complex)" : "") << ": " << fast[3 * x]
+                        << " " << fast[3 * x + 1] << " " << fast[3 * x + 2] << " vs " << ref[3 * x] << " "
+                        << ref[3 * x + 1] << " " << ref[3 * x + 2];
+      }
+    }
+  EXPECT_EQ(mismatches, 0);
+  return complex;
+}
+
+TEST(ComplexRow, EqualsComplexPixelOnRandomPatterns) {
+  std::mt19937_64 rng(77);
+  ComplexRowCache cache;  // one for all: reset() between images (sizes vary) must be enough
+  int complex = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    const int w = 1 + int(rng() % 70), h = 1 + int(rng() % 30);
+    const uint64_t seed = rng();
+    const double density = double(rng() % 101) / 100.0;
+    complex += expect_row_equal(test::build(test::random_pattern(w, h, 3 + int(rng() % 60), seed), density, seed), seed,
+                                "trial " + std::to_string(trial) + ", " + std::to_string(w) + "x" + std::to_string(h), cache);
+  }
+  EXPECT_GT(complex, 300);
+}
+
+TEST(ComplexRow, EqualsComplexPixelOnExtremes) {
+  // Nearly every pixel complex, also cut to one row, one column and one pixel.
+  ComplexRowCache cache;
+  for (auto [w, h] : {std::pair{19, 11}, {33, 1}, {1, 17}, {1, 1}, {2, 2}, {64, 3}, {65, 2}})
+    for (double d : {0.0, 0.3, 1.0}) {
+      const int complex = expect_row_equal(test::build(test::fine_checker(w, h), d, 5), 9,
+                                           "checker " + std::to_string(w) + "x" + std::to_string(h), cache);
+      if (w * h > 100) {
+        EXPECT_GT(complex, w * h / 2);
+      }
+    }
+  Pattern q;  // edges along pixel borders and centre lines
+  q.width = 21, q.height = 13;
+  q.background = {0.2f, 0.2f, 0.2f};
+  q.polygons.push_back({{1, 1, 0}, {{3, 2}, {9, 2}, {9, 8}, {3, 8}}});
+  q.polygons.push_back({{0, 1, 1}, {{12.5, 0}, {20, 7.5}, {12.5, 7.5}}});
+  q.polygons.push_back({{1, 0, 1}, {{0, 10}, {21, 10.5}, {21, 11}, {0, 11}}});
+  for (double d : {0.2, 1.0}) expect_row_equal(test::build(q, d, 6), 10, "borders", cache);
 }
 
 }  // namespace
