@@ -5,6 +5,8 @@
 //                           random, as in a frame's point image). args: width, height, empty %, threads.
 //   BM_PredictedOccupancy   predictive sampling's splat of 1/stride of a cloud of 1.15 points per
 //                           pixel into the view a few frames ahead. args: width, height, stride, threads.
+//   BM_FillHoles            the hole fill after fast motion: `holes` per mille of the pixels in
+//                           blobs of up to 8x8, one barrier column in 16. args: width, height, holes ‰, threads.
 //   render_stages_bench --benchmark_format=json > stages.json
 // Against an earlier build: run its binary on the same arguments one after the other.
 #include <limits>
@@ -16,6 +18,7 @@
 #include <tbb/global_control.h>
 
 #include "render/edge_projection.h"
+#include "render/hole_fill.h"
 #include "render/sampling.h"
 
 namespace epi::render {
@@ -100,6 +103,34 @@ BENCHMARK(BM_PredictedOccupancy)
     ->ArgsProduct({{1920}, {1080}, {1, 2, 3}, {1, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
+
+void BM_FillHoles(benchmark::State& state) {
+  const int w = int(state.range(0)), h = int(state.range(1));
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, size_t(state.range(3)));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  RgbImage image(w, h);
+  for (float& v : image.pixels) v = u(rng);
+  std::vector<uint8_t> holes(size_t(w) * size_t(h), 0), barrier(holes.size(), 0);
+  const size_t blobs = holes.size() * size_t(state.range(2)) / 1000 / 20;  // blobs of ~20 pixels on average
+  for (size_t b = 0; b < blobs; ++b) {
+    const int x0 = int(u(rng) * float(w)), y0 = int(u(rng) * float(h)), bw = 1 + int(u(rng) * 8), bh = 1 + int(u(rng) * 8);
+    for (int y = y0; y < std::min(h, y0 + bh); ++y)
+      for (int x = x0; x < std::min(w, x0 + bw); ++x) holes[size_t(y) * size_t(w) + size_t(x)] = 1;
+  }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; x += 16) barrier[size_t(y) * size_t(w) + size_t(x)] = 1;
+  HoleFillScratch scratch;
+  RgbImage work = image;
+  for (auto _ : state) {
+    state.PauseTiming();
+    work.pixels = image.pixels;
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(fill_holes(work, holes, barrier, scratch));
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(w) * int64_t(h));  // pixels per second
+}
+BENCHMARK(BM_FillHoles)->ArgsProduct({{1920}, {1080}, {5, 50}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 }  // namespace epi::render
