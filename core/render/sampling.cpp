@@ -276,10 +276,12 @@ void predicted_occupancy(const PointCache& cache, const ViewFrame& frame, std::s
     const int sw = w, sh = h, sp = splat;
     const float near = znear;
     ProjectionBatch batch;
+    for (auto* in : {batch.eye_x, batch.eye_y, batch.eye_z}) std::fill_n(in, ProjectionBatch::kSize, 0.0f);
+    std::fill_n(batch.normal, ProjectionBatch::kSize, 0u);  // no back-face test (its result is not read here)
     size_t count = 0;
     auto splat_batch = [&] {
       for (size_t k = count; k < std::min(ProjectionBatch::kSize, count + 16); ++k)  // the last vector's lanes
-        batch.x[k] = batch.y[k] = batch.z[k] = 0.0f, batch.view[k] = 0, batch.lobe_width[k] = 1.0f, batch.normal[k] = 0;
+        batch.x[k] = batch.y[k] = batch.z[k] = 0.0f, batch.view[k] = 0, batch.lobe_width[k] = 1.0f;
       project_batch(frame, batch, count);
       for (size_t k = 0; k < count; ++k) {
         if (!(batch.depth[k] > near)) continue;
@@ -313,7 +315,7 @@ void predicted_occupancy(const PointCache& cache, const ViewFrame& frame, std::s
         if (!p.valid) continue;
         const glm::vec3 world = cache.world_position(p, frame, object_to_world);
         batch.x[count] = world.x, batch.y[count] = world.y, batch.z[count] = world.z;
-        batch.view[count] = 0, batch.lobe_width[count] = 1.0f, batch.normal[count] = 0;  // no staleness, no back-face test
+        batch.view[count] = 0, batch.lobe_width[count] = 1.0f;  // no staleness
         if (++count == ProjectionBatch::kSize) splat_batch();
       }
     }
