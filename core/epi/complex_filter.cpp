@@ -51,22 +51,6 @@ const std::array<SubPixelGeometry, 256>& sub_pixel_geometry() {
   return table;
 }
 
-// geom::classify_cell(sides, 4) for every combination of the four 4-bit side masks (index
-// top | right << 4 | bottom << 8 | left << 12): kind in bits 0-1, p_low in 2-5, p_high in 6-9.
-// Built from classify_cell itself, so equal to it by construction (128 KB).
-const std::array<uint16_t, 65536>& sub_cell_classes() {
-  static const std::array<uint16_t, 65536> table = [] {
-    std::array<uint16_t, 65536> t{};
-    for (uint32_t i = 0; i < t.size(); ++i) {
-      const uint8_t sides[4] = {uint8_t(i & 15), uint8_t((i >> 4) & 15), uint8_t((i >> 8) & 15), uint8_t(i >> 12)};
-      const geom::CellClass c = geom::classify_cell(sides, 4);
-      t[i] = uint16_t(int(c.kind) | c.p_low << 2 | c.p_high << 6);
-    }
-    return t;
-  }();
-  return table;
-}
-
 struct SubPixel {
   CellKind kind = CellKind::complex;  // complex also stands for "outside the image"
   const SubPixelGeometry* geometry = nullptr;
@@ -114,7 +98,6 @@ void complex_impl(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, 
                   ComplexTrace* trace) {
   // Classify the 6x6 sub-pixels: each pixel's six mask bytes read once for its four.
   const std::array<SubPixelGeometry, 256>& geometry = sub_pixel_geometry();
-  const std::array<uint16_t, 65536>& classes = sub_cell_classes();
   SubPixel sub[kGrid][kGrid];
   const size_t row_stride = size_t(masks.width) + 1;
   for (int py = y - 1; py <= y + 1; ++py)
@@ -128,7 +111,7 @@ void complex_impl(const EpiRows& epi, const BoundaryMasks& masks, int x, int y, 
           const int u = 2 * (px - x + 1) + sx, v = 2 * (py - y + 1) + sy;
           const uint32_t t = half(sy == 0 ? top : centre_h, sx), r = half(sx == 0 ? centre_v : right, sy);
           const uint32_t b = half(sy == 0 ? centre_h : bottom, sx), l = half(sx == 0 ? left : centre_v, sy);
-          const uint16_t c = classes[t | r << 4 | b << 8 | l << 12];  // geom::classify_cell(sides, 4)
+          const uint16_t c = sub_cell_class(t | r << 4 | b << 8 | l << 12);  // geom::classify_cell(sides, 4)
           SubPixel& s = sub[v][u];
           s.kind = CellKind(c & 3);
           if (s.kind == CellKind::simple) {
@@ -276,9 +259,9 @@ const std::array<uint64_t, 256>& spread_bits_to_bytes() {
   return table;
 }
 
-// A sub-pixel as the row kernel needs it, by its crossings: geom::classify_cell(sides, 4) as
-// sub_cell_classes() encodes it, without that table's 128 KB (whose scattered reads missed the
-// caches), and the edge's probe bits spread one per byte.
+// A sub-pixel by its crossings: geom::classify_cell(sides, 4) (no 64 Ki-entry table: its
+// scattered reads missed the caches), and for the row kernel the edge's probe bits spread one per
+// byte.
 struct SubCell {
   uint64_t probes;  // SubPixelGeometry::probe_bits, bit k at bit 8k (0 unless simple)
   uint16_t cls;     // kind | p_low << 2 | p_high << 6

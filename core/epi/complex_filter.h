@@ -48,8 +48,8 @@ void complex_row(const EpiRows& epi, const BoundaryMasks& masks, int y, const ui
                  float* out, ComplexRowCache& cache);
 
 // The class of a sub-pixel (n = 4) by its side masks, index top | right << 4 | bottom << 8 |
-// left << 12, as complex_row computes it: kind in bits 0-1, p_low in 2-5, p_high in 6-9 of
-// geom::classify_cell. Exposed for its test.
+// left << 12, as complex_pixel and complex_row take it: kind in bits 0-1, p_low in 2-5, p_high in
+// 6-9 of geom::classify_cell (tested against it for every index).
 uint16_t sub_cell_class(uint32_t index);
 
 // What complex_pixel did, for the visualizer's trace (trace.h). Sub-pixel (u, v), u, v in 0..5,
