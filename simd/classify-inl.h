@@ -63,16 +63,16 @@ HWY_INLINE void ClassifyLanes(DU du, const ClassifyRow& row, const uint8_t* top,
   }
   const auto empty = hn::Eq(hn::And(count, hn::Set(du, ~1u)), zero);  // count <= 1
   auto simple = hn::And(hn::Eq(count, hn::Set(du, 2u)), hn::Ne(one_per_side, zero));
+  const V pair_code = hn::Or(hn::ShiftLeft<5>(lo), hi);  // the code where simple
   if (centre_h) {
     // A centre-line crossing off the chord: a corner inside the pixel, complex.
-    const V chord_code = hn::IfThenElseZero(simple, hn::Or(hn::ShiftLeft<5>(lo), hi));
-    const V on_chord = hn::GatherIndex(du, row.centre_on_chord, hn::BitCast(di, chord_code));
+    const V on_chord = hn::GatherIndex(du, row.centre_on_chord, hn::BitCast(di, hn::IfThenElseZero(simple, pair_code)));
     const V off_chord = hn::Or(hn::AndNot(on_chord, hn::PromoteTo(du, hn::LoadU(d8, centre_h))),
                                hn::AndNot(hn::ShiftRight<8>(on_chord), hn::PromoteTo(du, hn::LoadU(d8, centre_v))));
     simple = hn::And(simple, hn::Eq(off_chord, zero));
   }
   const auto complex = hn::AndNot(simple, hn::Not(empty));  // neither empty nor simple
-  const V code = hn::IfThenElseZero(simple, hn::Or(hn::ShiftLeft<5>(lo), hi));
+  const V code = hn::IfThenElseZero(simple, pair_code);
   const V region = hn::And(hn::ShiftRight<10>(in_edge), hn::Set(du, 15u));
   const V area = hn::GatherIndex(du, row.area, hn::BitCast(di, code));
   const V sidedness = hn::GatherIndex(du, row.sidedness, hn::BitCast(di, code));
