@@ -126,12 +126,6 @@ size_t PointCache::valid_points() const {
   return size_t(std::count_if(points_.begin(), points_.end(), [](const CachePoint& p) { return p.valid; }));
 }
 
-glm::vec3 PointCache::world_position(const CachePoint& p, const ViewFrame& frame,
-                                     std::span<const glm::mat4> object_to_world) const {
-  if (p.object == kNone || p.object >= object_to_world.size()) return frame.eye() + p.local * background_depth_;
-  return glm::vec3(object_to_world[p.object] * glm::vec4(p.local, 1.0f));
-}
-
 PointCache::ColourTerms PointCache::colour_terms(const PointColour& c) const {
   const float total = luminance(c.color);
   const float share = total > 0.0f ? std::clamp(luminance(c.view_dependent) / total, 0.0f, 1.0f) : 0.0f;
@@ -150,10 +144,6 @@ void PointCache::update_from_colour(CachePoint& p, const PointColour& c) const {
   p.srgb = pack_srgb(c.color, c.view_dependent);
   const ColourTerms terms = colour_terms(c);
   p.view_share = terms.view_share, p.priority_factor = terms.priority_factor;
-}
-
-bool PointCache::view_dependent(const CachePoint& p, float view_share) {
-  return p.lobe_width > 0.0f && p.object != kNone && view_share > 0.0f;
 }
 
 uint8_t PointCache::view_staleness(const CachePoint& p, float view_share, const glm::vec3& to_eye) const {
@@ -388,16 +378,6 @@ bool PointCache::back_facing(const CachePoint& p) const {
 bool PointCache::drawn(size_t slot) const {
   const int32_t pixel = points_[slot].image_id;
   return pixel >= 0 && image_.point[size_t(pixel)] == int32_t(slot);
-}
-
-bool PointCache::in_view_or_penalised(CachePoint& p, const Projection& proj, float znear) const {
-  const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
-                      proj.pixel.x < float(image_.width) && proj.pixel.y < float(image_.height);
-  if (!inside) {
-    p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
-    p.image_id = -1;
-  }
-  return inside;
 }
 
 // Near a silhouette or border the far side is visible: the depth cull's mean would remove it.
@@ -783,25 +763,12 @@ size_t PointCache::remove_listed() {
   return removed;
 }
 
-uint32_t PointCache::display_srgb(const CachePoint& p, const PointColour& c, bool by_steps) const {
+uint32_t PointCache::faded_srgb(const CachePoint& p, const PointColour& c, bool by_steps) const {
   const float staleness = float(p.staleness) / 16.0f;
-  if (staleness <= settings_.view_fade_start) return p.srgb;
   const float fade = std::clamp((staleness - settings_.view_fade_start) /
                                     std::max(settings_.view_fade_end - settings_.view_fade_start, 1e-3f), 0.0f, 1.0f);
   const glm::vec3 shown = c.color - c.view_dependent * fade, shown_view = c.view_dependent * (1.0f - fade);
   return by_steps ? pack_srgb_by_steps(shown, shown_view) : pack_srgb(shown, shown_view);
-}
-
-bool PointCache::shows_nothing(const CachePoint& p, float view_share) const {
-  return float(p.staleness) / 16.0f >= settings_.view_fade_end && view_share > settings_.view_drop_share;
-}
-
-int PointCache::priority_age(const CachePoint& p, ColourTerms terms) const {
-  // The EPI's age byte drives sampling priority (age / 16): points whose mean is still uncertain
-  // ask for samples sooner (colour_terms).
-  if (p.object == kNone || settings_.single_sample_error <= 0.0f) return p.age;  // the background is exact
-  const float view = settings_.view_priority * terms.view_share * float(p.staleness) / 16.0f;
-  return int(std::lround(std::min(float(p.age) * terms.priority_factor + view, 1e4f)));
 }
 
 void PointCache::fill_epi(EpiImage& epi) const {
@@ -834,11 +801,6 @@ void PointCache::fill_epi(EpiImage& epi) const {
       epi.color[i] = epi_color_word(size_t(p));
     }
   });
-}
-
-uint32_t PointCache::epi_color_word(size_t slot) const {
-  const CachePoint& p = points_[slot];
-  return display_srgb(p, colours_[slot], true) | uint32_t(std::min<int>(priority_age(p, stored_terms(p)), 255)) << bits::kAgeShift;
 }
 
 }  // namespace epi::render

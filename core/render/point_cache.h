@@ -4,6 +4,8 @@
 // object's space, so points on a moving object move with it.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -165,7 +167,10 @@ class PointCache {
 
   // Where a point is in the world under the given object transforms (background points sit at
   // background_depth() along their direction from the frame's eye).
-  glm::vec3 world_position(const CachePoint& p, const ViewFrame& frame, std::span<const glm::mat4> object_to_world) const;
+  glm::vec3 world_position(const CachePoint& p, const ViewFrame& frame, std::span<const glm::mat4> object_to_world) const {
+    if (p.object == kNone || p.object >= object_to_world.size()) return frame.eye() + p.local * background_depth_;
+    return glm::vec3(object_to_world[p.object] * glm::vec4(p.local, 1.0f));
+  }
 
   const PointImage& image() const { return image_; }
   const std::vector<CachePoint>& points() const { return points_; }
@@ -192,14 +197,29 @@ class PointCache {
   // in 1/16 lobe widths; 0 for shading that does not depend on the view.
   uint8_t view_staleness(const CachePoint& p, float view_share, const glm::vec3& to_eye) const;
   // Whether p's shading depends on the view at all (else its staleness is 0).
-  static bool view_dependent(const CachePoint& p, float view_share);
+  static bool view_dependent(const CachePoint& p, float view_share) {
+    return p.lobe_width > 0.0f && p.object != kNone && view_share > 0.0f;
+  }
   bool refines(const CachePoint& cached, const PointColour& cached_colour, const CachePoint& result,
                const PointColour& result_colour) const;
-  int priority_age(const CachePoint& p, ColourTerms terms) const;
+  // The EPI's age byte drives sampling priority (age / 16): points whose mean is still uncertain
+  // ask for samples sooner (colour_terms); the background is exact.
+  int priority_age(const CachePoint& p, ColourTerms terms) const {
+    if (p.object == kNone || settings_.single_sample_error <= 0.0f) return p.age;
+    const float view = settings_.view_priority * terms.view_share * float(p.staleness) / 16.0f;
+    return int(round_half_away(std::min(float(p.age) * terms.priority_factor + view, 1e4f)));
+  }
+  // std::lround's value for |x| < 2^52 (x + 1/2 is exact in double), inline: lround is a call to libm.
+  static double round_half_away(float x) { return std::trunc(double(x) + std::copysign(0.5, double(x))); }
   // srgb, less the view-dependent part as it goes stale; by_steps: encoded with encode_epi_color8_by_steps
-  uint32_t display_srgb(const CachePoint& p, const PointColour& c, bool by_steps = false) const;
+  uint32_t display_srgb(const CachePoint& p, const PointColour& c, bool by_steps = false) const {
+    return float(p.staleness) / 16.0f <= settings_.view_fade_start ? p.srgb : faded_srgb(p, c, by_steps);
+  }
+  uint32_t faded_srgb(const CachePoint& p, const PointColour& c, bool by_steps) const;
   // stale and mostly view-dependent (view_drop_share)
-  bool shows_nothing(const CachePoint& p, float view_share) const;
+  bool shows_nothing(const CachePoint& p, float view_share) const {
+    return float(p.staleness) / 16.0f >= settings_.view_fade_end && view_share > settings_.view_drop_share;
+  }
   size_t take_slot();
   bool drawn(size_t slot) const;  // the point is the one drawn at its pixel in the last projection
   bool back_facing(const CachePoint& p) const;  // uses eye_local_ of the current projection
@@ -211,7 +231,15 @@ class PointCache {
   size_t depth_cull_reference(std::span<const uint8_t> edge_pixels);
   // Both paths: whether a projection lands in the image (in front of the near plane), ageing p by
   // the off-screen penalty when it does not.
-  bool in_view_or_penalised(CachePoint& p, const Projection& proj, float znear) const;
+  bool in_view_or_penalised(CachePoint& p, const Projection& proj, float znear) const {
+    const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
+                        proj.pixel.x < float(image_.width) && proj.pixel.y < float(image_.height);
+    if (!inside) {
+      p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
+      p.image_id = -1;
+    }
+    return inside;
+  }
   // Both paths: whether (x, y) is within a pixel of a depth edge (the depth cull leaves it alone).
   bool near_depth_edge(std::span<const uint8_t> edge_pixels, int x, int y) const;
   // The occlusion test of one drawn pixel (both paths; normal_to_world_ made for this frame).
@@ -232,7 +260,11 @@ class PointCache {
     std::vector<uint32_t> ages;  // of the drawn points
   };
   void count_drawn(size_t tile, int x0, int y0, int x1, int y1);
-  uint32_t epi_color_word(size_t slot) const;  // fill_epi's colour word: display colour and priority age
+  // fill_epi's colour word: display colour and priority age
+  uint32_t epi_color_word(size_t slot) const {
+    const CachePoint& p = points_[slot];
+    return display_srgb(p, colours_[slot], true) | uint32_t(std::min<int>(priority_age(p, stored_terms(p)), 255)) << bits::kAgeShift;
+  }
   void window_min_depth(int radius);  // min_depth_: the least depth over each pixel's (2r+1)^2 window
   // Runs pass(first row, end row, list) over bands of rows in parallel, each with its own cleared
   // list in band_lists_; remove_listed() then empties the listed pixels and counts them.
