@@ -21,6 +21,10 @@
 
 namespace epi::render {
 
+// std::lround's value for any finite float of magnitude below 2^52, inline (lround is a call into
+// libm): x + 1/2 is exact in double, and trunc rounds it towards zero.
+inline double round_half_away(float x) { return std::trunc(double(x) + std::copysign(0.5, double(x))); }
+
 struct PointCacheSettings {
   double capacity_factor = 1.15;   // cloud size as a multiple of the pixel count
   int max_age = 240;               // points older than this are not drawn (and their slot is freed)
@@ -209,8 +213,6 @@ class PointCache {
     const float view = settings_.view_priority * terms.view_share * float(p.staleness) / 16.0f;
     return int(round_half_away(std::min(float(p.age) * terms.priority_factor + view, 1e4f)));
   }
-  // std::lround's value for |x| < 2^52 (x + 1/2 is exact in double), inline: lround is a call to libm.
-  static double round_half_away(float x) { return std::trunc(double(x) + std::copysign(0.5, double(x))); }
   // srgb, less the view-dependent part as it goes stale; by_steps: encoded with encode_epi_color8_by_steps
   uint32_t display_srgb(const CachePoint& p, const PointColour& c, bool by_steps = false) const {
     return float(p.staleness) / 16.0f <= settings_.view_fade_start ? p.srgb : faded_srgb(p, c, by_steps);

@@ -275,5 +275,29 @@ TEST(PointCacheFastPath, StalenessStepsEqualsTheDirectFormula) {
   EXPECT_GT(checked, size_t(1000000));
 }
 
+// The inline rounding of the EPI word's priority age equals std::lround: at every half-integer
+// and its float neighbours up to 2^24 (where floats stop having halves), at the priority's cap,
+// both signs, and for random floats over the whole range a priority can take.
+TEST(PointCacheFastPath, RoundHalfAwayEqualsLround) {
+  size_t checked = 0;
+  auto check = [&](float x) {
+    ++checked;
+    if (round_half_away(x) != double(std::lround(x)))
+      ADD_FAILURE() << x << " (bits " << std::bit_cast<uint32_t>(x) << "): " << round_half_away(x) << " != " << std::lround(x);
+  };
+  for (double half = 0.5; half < double(1 << 24) && !HasFailure(); half = half < 4096.0 ? half + 1.0 : half * 1.37 + 0.5) {
+    const uint32_t bits = std::bit_cast<uint32_t>(float(half));
+    for (int d = -3; d <= 3; ++d) {
+      const float x = std::bit_cast<float>(uint32_t(int64_t(bits) + d));
+      check(x), check(-x);
+    }
+  }
+  for (float x : {0.0f, -0.0f, 0.49999997f, 0.5f, 1e4f, 9999.5f, 1e-30f, 3e9f, 16777215.0f, 16777216.0f}) check(x), check(-x);
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<float> value(0.0f, 1e4f);
+  for (int k = 0; k < 1000000 && !HasFailure(); ++k) check(value(rng));
+  EXPECT_GT(checked, size_t(1000000));
+}
+
 }  // namespace
 }  // namespace epi::render
