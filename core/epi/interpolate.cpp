@@ -99,9 +99,25 @@ bool reachable_fallback(const EpiRows& rows, int x, int y, float rgb[3]) {
   return true;
 }
 
+// Whether a pixel of the (2r+1)^2 window (clipped to the image) holds a sample.
+bool window_holds_samples(const EpiRows& rows, int x, int y, int r) {
+  uint16_t any = 0;
+  for (int py = std::max(0, y - r); py <= std::min(rows.height - 1, y + r); ++py) {
+    const uint16_t* edge = rows.edge_row(py);
+    for (int px = std::max(0, x - r); px <= std::min(rows.width - 1, x + r); ++px) any |= edge[px];
+  }
+  return any & bits::kHasSample;
+}
+
 }  // namespace
 
 void fallback_color(const EpiRows& rows, int x, int y, float rgb[3]) {
+  // Inside a hole (no sample in the 7x7: a usable one has a sample, and every step below reads
+  // at most the 7x7) the answer is black, found without the 7x7 reachability.
+  if (!window_holds_samples(rows, x, y, 3)) {
+    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    return;
+  }
   if (reachable_fallback(rows, x, y, rgb)) return;
   // Last resort. Only where the pixel's own 5x5 holds an edge (so it is at an edge, and its
   // colour unknown either way) may colour come from unreachable samples; an edge-free 5x5 gets black.

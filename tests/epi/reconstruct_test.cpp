@@ -11,6 +11,7 @@
 #include "epi/interpolate.h"
 #include "epi/reachability.h"
 #include "epi/reconstruct.h"
+#include "epi/rows.h"
 #include "epi/tables.h"
 #include "test_util.h"
 
@@ -170,6 +171,32 @@ TEST(Reachability, Window7MatchesBruteForcePathEnumeration) {
   const std::vector<uint8_t> types = types_of(epi);
   EXPECT_EQ(reach_window7({types.data(), 9, 9}, 4, 4), kWindow7All);
   EXPECT_EQ(reach_window7({types.data(), 9, 9}, 0, 4), brute_reach_window(epi, 0, 4, 3) | (uint64_t(1) << 24));
+}
+
+// The interpolation's fallback around one lone sample in an edge-free image: the sample's colour
+// out to 3 pixels in each direction (the 7x7 reach, corners included), black beyond (inside the
+// hole), with the sample anywhere, image borders included.
+TEST(Fallback, OneSampleColoursItsSevenBySevenAndTheHoleBeyondIsBlack) {
+  const int w = 11, h = 9;
+  const float rgb[3] = {0.25f, 0.5f, 0.75f};
+  for (const auto& [sx, sy] : {std::pair{5, 4}, std::pair{0, 0}, std::pair{10, 8}, std::pair{3, 0}}) {
+    EpiImage epi(w, h);
+    epi.set_sample(sx, sy, 0.5, 0.5, rgb);
+    BoundaryMasks masks(w, h, false);
+    classify_rows(epi, masks, 0, h);
+    const std::vector<uint8_t> types = types_of(epi);
+    const EpiRows rows = whole_image_rows(epi, types.data());
+    float expected[3];
+    decode_color(epi.color[epi.index(sx, sy)], expected);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        float got[3] = {-1, -1, -1};
+        fallback_color(rows, x, y, got);
+        const bool near = std::abs(x - sx) <= 3 && std::abs(y - sy) <= 3;
+        for (int c = 0; c < 3; ++c)
+          ASSERT_FLOAT_EQ(got[c], near ? expected[c] : 0.0f) << "sample " << sx << "," << sy << " pixel " << x << "," << y;
+      }
+  }
 }
 
 TEST(Reachability, MatchesBruteForcePathEnumeration) {
