@@ -2,25 +2,28 @@
 """Compare two sets of Google Benchmark JSON runs (e.g. a base and a changed binary, run
 alternately on a loaded machine): the best (minimum) real time per benchmark in each set and
 their ratio, as a Markdown table. `--time cpu` compares CPU times instead (the benchmark
-thread's: on a loaded machine the fairer figure for one-thread runs).
+thread's: on a loaded machine the fairer figure for one-thread runs); `--counter NAME` compares
+a user counter instead (e.g. render_points_bench's project_ms), the best (least) per benchmark.
 
-  tools/bench_compare.py --base base-*.json --new new-*.json [--time cpu]
+  tools/bench_compare.py --base base-*.json --new new-*.json [--time cpu | --counter NAME]
 """
 import argparse
 import json
 
 
 def best_times(files, field):
-    best = {}
+    best, unit = {}, ""
     for name in files:
         with open(name) as f:
             for b in json.load(f)["benchmarks"]:
                 if b.get("run_type") == "aggregate":
                     continue
                 key = b["run_name"] if "run_name" in b else b["name"]
+                if field not in b:
+                    continue
                 t = b[field]
                 best[key] = min(best.get(key, t), t)
-                unit = b.get("time_unit", "ns")
+                unit = b.get("time_unit", "ns") if field.endswith("_time") else field
     return best, unit
 
 
@@ -29,11 +32,13 @@ def main():
     parser.add_argument("--base", nargs="+", required=True)
     parser.add_argument("--new", nargs="+", required=True)
     parser.add_argument("--time", choices=["real", "cpu"], default="real")
+    parser.add_argument("--counter", help="a user counter to compare instead of a time")
     args = parser.parse_args()
-    field = args.time + "_time"
+    field = args.counter or args.time + "_time"
     base, unit = best_times(args.base, field)
     new, _ = best_times(args.new, field)
-    print(f"| benchmark | base ({args.time}, {unit}) | new ({args.time}, {unit}) | new / base |")
+    what = unit if args.counter else f"{args.time}, {unit}"
+    print(f"| benchmark | base ({what}) | new ({what}) | new / base |")
     print("|---|---|---|---|")
     for key in base:
         if key in new:
