@@ -199,6 +199,56 @@ TEST(Fallback, OneSampleColoursItsSevenBySevenAndTheHoleBeyondIsBlack) {
   }
 }
 
+// fallback_color without its hole shortcut (the oracle of the shortcut): the reachable samples
+// of the 7x7, then at an edge the 5x5's and the 7x7's samples, else black.
+void straightforward_fallback(const EpiRows& rows, int x, int y, float rgb[3]) {
+  const uint64_t reach = reach_window7(rows.type_rows(), x, y);
+  const auto& lut = epi_color8_to_linear();
+  float sum[3] = {0, 0, 0}, total = 0;
+  for (int dy = std::max(-3, -y); dy <= std::min(3, rows.height - 1 - y); ++dy)
+    for (int dx = std::max(-3, -x); dx <= std::min(3, rows.width - 1 - x); ++dx) {
+      if (!((reach >> window7_bit(dx, dy)) & 1) || !usable_sample(rows.edge_at(x + dx, y + dy))) continue;
+      const float d = float(1 + dx * dx + dy * dy), w = 1.0f / (d * d);
+      const uint32_t c = rows.color_at(x + dx, y + dy);
+      sum[0] += w * lut[c & 255], sum[1] += w * lut[(c >> 8) & 255], sum[2] += w * lut[(c >> 16) & 255];
+      total += w;
+    }
+  if (total > 0) {
+    for (int k = 0; k < 3; ++k) rgb[k] = sum[k] / total;
+    return;
+  }
+  int any = 0;
+  for (int py = std::max(0, y - 2); py <= std::min(rows.height - 1, y + 2); ++py)
+    for (int px = std::max(0, x - 2); px <= std::min(rows.width - 1, x + 2); ++px) any |= rows.type_at(px, py);
+  if (any != kTypeEmpty) {
+    if (simple_estimate(rows, x, y, rgb) > 0) return;
+    if (window_average(rows, x, y, 3, rgb) > 0) return;
+  }
+  rgb[0] = rgb[1] = rgb[2] = 0.0f;
+}
+
+TEST(Fallback, EqualsTheStraightforwardLoopOnRandomPatterns) {
+  size_t coloured = 0, black = 0;
+  for (const double density : {0.02, 0.08, 0.3, 0.9})
+    for (uint64_t seed = 1; seed <= 3; ++seed) {
+      const int w = 37, h = 23;
+      test::Built b = test::build(test::random_pattern(w, h, 14, seed), density, seed);
+      classify_rows(b.epi, b.masks, 0, h);
+      const std::vector<uint8_t> types = types_of(b.epi);
+      const EpiRows rows = whole_image_rows(b.epi, types.data());
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          float got[3], want[3];
+          fallback_color(rows, x, y, got);
+          straightforward_fallback(rows, x, y, want);
+          ASSERT_EQ(0, std::memcmp(got, want, sizeof got)) << "density " << density << " seed " << seed << " pixel " << x << "," << y;
+          (want[0] + want[1] + want[2] > 0 ? coloured : black) += 1;
+        }
+    }
+  EXPECT_GT(coloured, size_t(1000));
+  EXPECT_GT(black, size_t(50));  // the sparse patterns hold holes
+}
+
 TEST(Reachability, MatchesBruteForcePathEnumeration) {
   for (uint64_t seed = 1; seed <= 8; ++seed) {
     test::Built b = test::build(test::random_pattern(32, 24, 20, seed), 0.5, seed);
