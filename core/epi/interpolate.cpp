@@ -111,7 +111,7 @@ bool window_holds_samples(const EpiRows& rows, int x, int y, int r) {
 
 }  // namespace
 
-void fallback_color(const EpiRows& rows, int x, int y, float rgb[3]) {
+void fallback_color(const EpiRows& rows, int x, int y, float rgb[3], bool blend_near_edges) {
   // Inside a hole (no sample in the 7x7: a usable one has a sample, and every step below reads
   // at most the 7x7) the answer is black, found without the 7x7 reachability.
   if (!window_holds_samples(rows, x, y, 3)) {
@@ -120,22 +120,24 @@ void fallback_color(const EpiRows& rows, int x, int y, float rgb[3]) {
   }
   if (reachable_fallback(rows, x, y, rgb)) return;
   // Last resort. Only where the pixel's own 5x5 holds an edge (so it is at an edge, and its
-  // colour unknown either way) may colour come from unreachable samples; an edge-free 5x5 gets black.
-  if (window_holds_edges(rows.type_rows(), x, y, 2)) {
+  // colour unknown either way; without blend_near_edges only where an edge crosses the pixel
+  // itself) may colour come from unreachable samples; elsewhere black.
+  if (blend_near_edges ? window_holds_edges(rows.type_rows(), x, y, 2) : rows.type_at(x, y) != kTypeEmpty) {
     if (simple_estimate(rows, x, y, rgb) > 0) return;
     if (window_average(rows, x, y, 3, rgb) > 0) return;
   }
   rgb[0] = rgb[1] = rgb[2] = 0.0f;
 }
 
-float interpolate_pixel(const EpiRows& rows, int x, int y, uint32_t reach, float rgb[3], bool* found) {
+float interpolate_pixel(const EpiRows& rows, int x, int y, uint32_t reach, float rgb[3], bool* found,
+                        bool blend_near_edges) {
   const uint16_t e = rows.edge_at(x, y);
   const bool complex = edge_code(e) == kComplexCode;
   const float total = complex ? simple_estimate(rows, x, y, rgb)
                               : weighted_sum(rows, x, y, window_mask(reach), bits::kUsable, rgb);
   if (found) *found = total > 0;
   if (total == 0) {
-    fallback_color(rows, x, y, rgb);
+    fallback_color(rows, x, y, rgb, blend_near_edges);
     return kMaxPriority;
   }
   // A pixel whose own sample is edge-ambiguous is treated as unsampled: weight priority.

@@ -29,14 +29,16 @@ extern const float kInterpolationWeights[25];
 
 // The primary colour of pixel (x, y) into rgb; returns its priority. *found tells whether the
 // colour came from reachable samples (complex pixels: from any sample of the 5x5). Reads rows
-// y-2..y+2 of `rows`, y-3..y+3 in the fallback.
-float interpolate_pixel(const EpiRows& rows, int x, int y, uint32_t reach, float rgb[3], bool* found = nullptr);
+// y-2..y+2 of `rows`, y-3..y+3 in the fallback (fallback_color, with blend_near_edges).
+float interpolate_pixel(const EpiRows& rows, int x, int y, uint32_t reach, float rgb[3], bool* found = nullptr,
+                        bool blend_near_edges = true);
 
 // The colour of a pixel that reaches no sample in its 5x5: the kernel-weighted mean of the
-// usable samples it reaches in its 7x7 (reach_window7); failing that, where its own 5x5
-// holds an edge (a non-empty type), the simple estimate, then the uniform 7x7 average;
-// otherwise black. Colour never crosses an edge into a pixel whose 5x5 is edge-free.
-void fallback_color(const EpiRows& rows, int x, int y, float rgb[3]);
+// usable samples it reaches in its 7x7 (reach_window7); failing that, where its own 5x5 holds an
+// edge (a non-empty type; without blend_near_edges: where the pixel itself is not empty), the
+// simple estimate, then the uniform 7x7 average; otherwise black. Colour never crosses an edge
+// into a pixel whose 5x5 is edge-free (ReconstructSettings::blend_unreached_near_edges).
+void fallback_color(const EpiRows& rows, int x, int y, float rgb[3], bool blend_near_edges = true);
 
 
 // The paper's simple estimate: every sample of the 5x5, same kernel. Returns the total weight.

@@ -39,7 +39,8 @@ bool use_complex_filter(const ReconstructSettings& s, const BoundaryMasks& masks
 float interpolate(const EpiRows& epi, const ReconstructSettings& s, int x, int y, uint32_t reach, float rgb[3],
                   uint8_t* found) {
   bool f = true;
-  const float p = s.filter == Filter::epi ? interpolate_pixel(epi, x, y, reach, rgb, &f) : rendercache_pixel(epi, x, y, rgb);
+  const float p = s.filter == Filter::epi ? interpolate_pixel(epi, x, y, reach, rgb, &f, s.blend_unreached_near_edges)
+                                          : rendercache_pixel(epi, x, y, rgb);
   *found = f;
   return p;
 }
@@ -278,7 +279,7 @@ void interpolate_stage(RowJob& j, int y) {
       window_average(rows, x, y, 3, colors + 3 * x);
       *p = 1;
     } else {
-      fallback_color(rows, x, y, colors + 3 * x);
+      fallback_color(rows, x, y, colors + 3 * x, j.settings.blend_unreached_near_edges);
     }
     priority[x] = kMaxPriority;
   }

@@ -32,6 +32,12 @@ struct ReconstructSettings {
   bool antialias = true;       // epi only
   bool complex_filter = true;  // epi only; needs masks with centre lines
   bool fill = true;            // epi only; the fill step (fill.h); off: "EPI without fill"
+  // epi only: which pixels that reach no sample take the fallback's last resort (interpolate.h,
+  // fallback_color), a blend of the samples across an edge: on, every pixel whose 5x5 holds an
+  // edge; off, only the pixels an edge crosses (their output is a blend of both sides anyway).
+  // Off, an edge-free pixel beside an edge stays black at top priority: a hole for a caller that
+  // fills holes within their own region (the renderer's hole fill, core/render/hole_fill.h).
+  bool blend_unreached_near_edges = true;
 };
 
 // What makes a pixel's output colour from its filled primary colour (the last two stages):

@@ -76,7 +76,7 @@ PixelTrace Tracer::trace(int x, int y) const {
     for (int px = std::max(0, x - kInterpRadius); px <= std::min(w - 1, x + kInterpRadius); ++px) {
       bool f = false;
       const float priority = interpolate_pixel(r, px, py, reach_mask(epi_.cache[epi_.index(px, py)]),
-                                               interp_row(py) + 3 * px, &f);
+                                               interp_row(py) + 3 * px, &f, settings_.blend_unreached_near_edges);
       found_row(py)[px] = f;
       if (px == x && py == y) p.priority = priority, p.found = f;
     }

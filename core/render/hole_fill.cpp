@@ -71,7 +71,38 @@ size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<con
   for (size_t i = 0; i < n; ++i)
     if (state[i] == 2 && fill_from_neighbours(int(i % size_t(w)), int(i / size_t(w)), true)) last.push_back(uint32_t(i));
   for (const uint32_t i : last) state[i] = 0;
-  return filled + last.size();
+  filled += last.size();
+  // Holes still unfilled lie in a region the edges enclose that holds no source of its own:
+  // rings from any filled neighbour, barriers included (the nearest colours, whatever side).
+  front.clear();
+  for (size_t i = 0; i < n; ++i) {
+    if (state[i] == 0) continue;
+    state[i] = 1;
+    const int x = int(i % size_t(w)), y = int(i / size_t(w));
+    bool touches = false;
+    for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
+      for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx) touches |= state[size_t(qy) * size_t(w) + size_t(qx)] == 0;
+    if (touches) front.push_back(uint32_t(i));
+  }
+  while (!front.empty()) {
+    ring.clear();
+    for (const uint32_t i : front)
+      if (fill_from_neighbours(int(i % uint32_t(w)), int(i / uint32_t(w)), true)) ring.push_back(i);
+    for (const uint32_t i : ring) state[i] = 0;
+    filled += ring.size();
+    next.clear();
+    for (const uint32_t i : ring) {
+      const int x = int(i % uint32_t(w)), y = int(i / uint32_t(w));
+      for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
+        for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx) {
+          const size_t q = size_t(qy) * size_t(w) + size_t(qx);
+          if (state[q] == 1) state[q] = 3, next.push_back(uint32_t(q));
+        }
+    }
+    for (const uint32_t i : next) state[i] = 1;
+    front.swap(next);
+  }
+  return filled;
 }
 
 }  // namespace epi::render

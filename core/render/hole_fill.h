@@ -14,8 +14,10 @@ namespace epi::render {
 // Fills the pixels flagged in `holes` (non-zero) of `image`, ring by ring outwards from the
 // filled pixels: a hole pixel takes the mean of its already filled 8-neighbours. Pixels flagged in
 // `barrier` (non-zero; geometric edges) neither pass colour on nor take it until every other hole
-// is filled; they then take the mean of their filled neighbours. Holes no filled pixel reaches
-// stay as they are. Returns the number of pixels filled.
+// is filled; they then take the mean of their filled neighbours. Holes still unfilled then (a
+// region the barriers enclose that held no filled pixel) are filled ring by ring from any filled
+// neighbour, barriers included. Only holes no filled pixel reaches at all stay as they are.
+// Returns the number of pixels filled.
 // `scratch` keeps the fill's working storage between calls (the renderer's, per frame).
 struct HoleFillScratch {
   std::vector<uint8_t> state;

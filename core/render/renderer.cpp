@@ -381,6 +381,10 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   rs.filter = settings_.mode == RenderMode::epi ? Filter::epi : Filter::rendercache;
   rs.antialias = settings_.antialias;
   rs.complex_filter = settings_.complex_filter;
+  // Edge-free pixels that reach no sample are left black where the hole fill below fills them
+  // from their own region: the reconstruction's blend across a nearby edge painted the near
+  // side's colour into the background a disocclusion uncovered (docs/render.md, "Holes").
+  rs.blend_unreached_near_edges = !settings_.fill_holes;
   ReconstructTimes rt;
   if (settings_.stage_timings) {
     Schedule schedule;

@@ -249,6 +249,40 @@ TEST(Fallback, EqualsTheStraightforwardLoopOnRandomPatterns) {
   EXPECT_GT(black, size_t(50));  // the sparse patterns hold holes
 }
 
+// A disocclusion beside a straight edge: samples below a horizontal edge, none above. With the
+// blend near edges (the default) the edge-free pixels just above the edge take the colour from
+// across it (the floor colour the renderer showed above a floor's far border, docs/render.md
+// "Holes"); without it they stay black at top priority (holes), while the pixels the edge
+// crosses still blend. The oracle and the tiled schedule agree in both settings.
+TEST(Fallback, WithoutTheBlendNearEdgesEdgeFreePixelsBesideAnEdgeStayBlack) {
+  const int w = 24, h = 16;
+  EpiImage epi(w, h);
+  BoundaryMasks masks(w, h, true);
+  const Segment edge{-5.0, 8.3, 30.0, 8.6};
+  rasterize_edges(masks, std::span<const Segment>(&edge, 1));
+  const float rgb[3] = {0.6f, 0.5f, 0.4f};
+  for (int y = 9; y < h; ++y)
+    for (int x = 0; x < w; ++x) epi.set_sample(x, y, 0.5, 0.5, rgb);
+  for (const bool blend : {true, false}) {
+    ReconstructSettings settings;
+    settings.blend_unreached_near_edges = blend;
+    const Reconstruction oracle = reconstruct_oracle(epi, masks, settings);
+    const Reconstruction tiled = reconstruct_tiled(epi, masks, settings);
+    ASSERT_TRUE(same_bits(oracle.image.pixels, tiled.image.pixels)) << "blend " << blend;
+    ASSERT_TRUE(same_bits(oracle.priority, tiled.priority)) << "blend " << blend;
+    size_t coloured_above = 0, coloured_on_edge = 0;
+    for (int x = 0; x < w; ++x) {
+      for (int y = 6; y <= 7; ++y)  // edge-free, the edge in their 5x5, nothing reachable
+        coloured_above += oracle.image.pixels[3 * (size_t(y) * w + size_t(x))] > 0.0f;
+      coloured_on_edge += oracle.image.pixels[3 * (size_t(8) * w + size_t(x))] > 0.0f;
+      for (int y = 0; y <= 7; ++y) EXPECT_EQ(oracle.priority[size_t(y) * w + size_t(x)], kMaxPriority);
+    }
+    if (blend) EXPECT_EQ(coloured_above, size_t(2 * w));
+    else EXPECT_EQ(coloured_above, size_t(0));
+    EXPECT_EQ(coloured_on_edge, size_t(w)) << "blend " << blend;
+  }
+}
+
 TEST(Reachability, MatchesBruteForcePathEnumeration) {
   for (uint64_t seed = 1; seed <= 8; ++seed) {
     test::Built b = test::build(test::random_pattern(32, 24, 20, seed), 0.5, seed);

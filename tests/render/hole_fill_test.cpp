@@ -42,6 +42,25 @@ TEST(HoleFill, HolesTakeTheirOwnRegionsColourAndNeverCrossAnEdge) {
     }
 }
 
+// A region of holes the barrier encloses (a ring of barrier pixels that are filled, as the
+// pixels an edge crosses are) has no source of its own: it takes the ring's colour, not black.
+TEST(HoleFill, AnEnclosedRegionWithoutSourcesTakesTheColourAroundIt) {
+  const int w = 11, h = 11;
+  RgbImage image(w, h);
+  std::vector<uint8_t> holes(size_t(w * h), 0), barrier(size_t(w * h), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y * w + x);
+      const int ring = std::max(std::abs(x - 5), std::abs(y - 5));
+      barrier[i] = ring == 3;
+      holes[i] = ring < 3;
+      for (int c = 0; c < 3; ++c) image.pixels[i * 3 + size_t(c)] = ring == 3 ? 0.5f : ring > 3 ? 0.9f : 0.0f;
+    }
+  EXPECT_EQ(fill_holes(image, holes, barrier), 25u);
+  for (int y = 3; y <= 7; ++y)
+    for (int x = 3; x <= 7; ++x) EXPECT_FLOAT_EQ(image.pixels[size_t(y * w + x) * 3], 0.5f) << x << "," << y;
+}
+
 // A whole hole image has nothing to fill from; a hole ring filled from outside blurs inwards.
 TEST(HoleFill, NothingToFillFromLeavesTheHoleAndRingsBlendOutwards) {
   const int w = 9, h = 9;
@@ -71,7 +90,8 @@ TEST(HoleFill, NothingToFillFromLeavesTheHoleAndRingsBlendOutwards) {
 
 // The definition, written as whole-image sweeps: each sweep fills every hole off a barrier that
 // touches a filled pixel off a barrier, from those pixels only (mean, neighbours in row order);
-// then the holes on barriers from any filled neighbour. Returns the count filled.
+// then the holes on barriers from any filled neighbour; then sweeps over the holes left (regions
+// the barriers enclose without a source) from any filled neighbour. Returns the count filled.
 size_t fill_holes_by_sweeps(RgbImage& image, const std::vector<uint8_t>& holes, const std::vector<uint8_t>& barrier) {
   const int w = image.width, h = image.height;
   std::vector<uint8_t> filled(holes.size());
@@ -112,9 +132,27 @@ size_t fill_holes_by_sweeps(RgbImage& image, const std::vector<uint8_t>& holes, 
       std::array<float, 3> c;
       if (!filled[i] && barrier[i] && mean_of(x, y, true, c.data())) last.push_back({i, c});
     }
-  for (const auto& [i, c] : last)
+  for (const auto& [i, c] : last) {
     for (int k = 0; k < 3; ++k) image.pixels[i * 3 + size_t(k)] = c[size_t(k)];
-  return total + last.size();
+    filled[i] = 1;
+  }
+  total += last.size();
+  for (;;) {
+    std::vector<std::pair<size_t, std::array<float, 3>>> sweep;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t i = size_t(y) * size_t(w) + size_t(x);
+        std::array<float, 3> c;
+        if (!filled[i] && mean_of(x, y, true, c.data())) sweep.push_back({i, c});
+      }
+    if (sweep.empty()) break;
+    for (const auto& [i, c] : sweep) {
+      for (int k = 0; k < 3; ++k) image.pixels[i * 3 + size_t(k)] = c[size_t(k)];
+      filled[i] = 1;
+    }
+    total += sweep.size();
+  }
+  return total;
 }
 
 // Random images with random blobs of holes and random barrier lines, sizes from 1x1 to 130x97,
