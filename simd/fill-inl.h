@@ -11,6 +11,7 @@
 
 #include <cstring>
 
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
 #include "simd/interpolate-inl.h"
@@ -54,11 +55,26 @@ HWY_INLINE void FillLanes(DF df, const FillRow& row, int x, const uint32_t* reac
                         hn::IfThenElse(fill, hn::Div(sb, safe), b), df, out);
 }
 
+// The colours and found flags of rows y + 1 and y + 2 at pixels x .. x + kFillPrefetchStep - 1.
+constexpr int kFillPrefetchStep = 64, kFillPrefetchAhead = 8 * kFillPrefetchStep;
+inline void PrefetchRowsBelow(const FillRow& row, int x) {
+  for (int k = 3; k < 5; ++k) {
+    for (int i = 0; i < 3 * kFillPrefetchStep; i += 16) hwy::Prefetch(row.rows[k] + 3 * x + i);
+    hwy::Prefetch(row.found[k] + x);
+  }
+}
+
 inline void FillRowKernel(const FillRow& row) {
   const hn::ScalableTag<float> df;
   const int n = int(hn::Lanes(df));
   int x = 0;
-  for (; x + n <= row.width; x += n) FillLanes(df, row, x, row.reach + x, row.out + 3 * x);
+  for (; x + n <= row.width; x += n) {
+    // Rows y + 1 and y + 2 are read only by vectors with a pixel to fill: scattered loads the
+    // hardware prefetcher does not follow, each a miss in the staged schedule (whole-image
+    // planes). They are the next rows' own rows, so bringing them in now costs no extra traffic.
+    if ((x & (kFillPrefetchStep - 1)) == 0) PrefetchRowsBelow(row, x + kFillPrefetchAhead);
+    FillLanes(df, row, x, row.reach + x, row.out + 3 * x);
+  }
   if (x == row.width) return;
   constexpr int kMax = HWY_LANES(float);
   const int rest = row.width - x;
