@@ -1,9 +1,10 @@
 // The anti-aliasing row kernel (per target; included by row_kernels.cpp through
-// foreach_target.h): antialias_pixel (core/epi/antialias.cpp) lane by lane. The secondary
-// colour is gathered from the neighbour the table names; colour = a * own + (1 - a) * secondary
-// with the oracle's float operations in its order (no fused multiply-add), so every lane
-// equals the oracle bit for bit. Non-simple pixels, and those whose neighbour lies outside the
-// image, keep their own colour.
+// foreach_target.h): antialias_pixel (core/epi/antialias.cpp) over a row. Most pixels pass
+// through: the row is copied in vectors, a chunk of 64 pixels at a time, and the simple pixels
+// of the chunk, found by the bits of a vector compare of their types, are then blended one by
+// one: colour = a * own + (1 - a) * secondary with the oracle's float operations in its order
+// (no fused multiply-add), so every pixel equals the oracle bit for bit. Non-simple pixels,
+// and those whose neighbour lies outside the image, keep their own colour.
 #if defined(EPI_SIMD_ANTIALIAS_INL_H_) == defined(HWY_TARGET_TOGGLE)
 #ifdef EPI_SIMD_ANTIALIAS_INL_H_
 #undef EPI_SIMD_ANTIALIAS_INL_H_
@@ -16,7 +17,6 @@
 #include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
-#include "simd/common-inl.h"
 #include "simd/row_kernels.h"
 
 HWY_BEFORE_NAMESPACE();
@@ -56,63 +56,7 @@ inline void AntialiasPixel(const AntialiasRow& row, int x, uint32_t type, uint32
   out[0] = r, out[1] = g, out[2] = b;
 }
 
-// Lanes x .. x + N - 1; `types`, `edge`, `own` (the own colours) and `out` start at x; the
-// secondary colours are gathered from the rows, or, for a vector with few simple pixels, read
-// pixel by pixel (gathers cost per lane: on Zen 4 four gathers cost more than a few pixels).
-template <class DF>
-HWY_INLINE void AntialiasLanes(DF df, const AntialiasRow& row, int x, const uint8_t* types, const uint16_t* edge,
-                               const float* own, float* out) {
-  const hn::RebindToUnsigned<DF> du;
-  const hn::RebindToSigned<DF> di;
-  const hn::Rebind<uint8_t, DF> d8;
-  const hn::Rebind<uint16_t, DF> d16;
-  using VU = hn::Vec<decltype(du)>;
-  using VI = hn::Vec<decltype(di)>;
-  const VU type = hn::PromoteTo(du, hn::LoadU(d8, types));
-  const VU code = hn::And(hn::PromoteTo(du, hn::LoadU(d16, edge)), hn::Set(du, 0x3ffu));
-  const VU two = hn::Set(du, 2u), one = hn::Set(du, 1u);
-  // Simple: 2 <= type < 14, i.e. (type - 2) < 12 unsigned; as an integer range on small values.
-  const auto simple = hn::And(hn::Ne(hn::ShiftRight<1>(type), hn::Zero(du)),
-                              hn::Eq(hn::And(hn::Add(type, two), hn::Set(du, ~15u)), hn::Zero(du)));
-  hn::Vec<DF> r, g, b;
-  hn::LoadInterleaved3(df, own, r, g, b);
-  const auto primary_is_b = hn::RebindMask(df, hn::Ne(hn::And(hn::Sub(type, two), one), hn::Zero(du)));
-  const VI code_i = hn::BitCast(di, code);
-  // One gather: area of A in bits 0-15, the secondary neighbours in bits 16-23.
-  const VU packed = hn::GatherIndex(du, row.area_and_secondary, code_i);
-  const VU secondary = hn::ShiftRight<16>(packed);
-  // The neighbour for the secondary region: B's nibble when B is secondary (A primary).
-  const VU k = hn::And(hn::IfThenElse(hn::RebindMask(du, primary_is_b), secondary, hn::ShiftRight<4>(secondary)),
-                       hn::Set(du, 15u));
-  const VU shift = hn::ShiftLeft<1>(k);
-  const VI dx = hn::Sub(hn::BitCast(di, hn::And(hn::Shr(hn::Set(du, kNeighbourDx), shift), hn::Set(du, 3u))), hn::Set(di, 1));
-  const VI dy = hn::Sub(hn::BitCast(di, hn::And(hn::Shr(hn::Set(du, kNeighbourDy), shift), hn::Set(du, 3u))), hn::Set(di, 1));
-  const VI nx = hn::Add(hn::Iota(di, x), dx);
-  const auto up = hn::Eq(dy, hn::Set(di, -1)), down = hn::Eq(dy, hn::Set(di, 1));
-  auto usable = hn::And(hn::RebindMask(di, simple),
-                        hn::And(hn::Not(hn::Lt(nx, hn::Zero(di))), hn::Lt(nx, hn::Set(di, row.width))));
-  if (!row.rows[0]) usable = hn::AndNot(up, usable);
-  if (!row.rows[2]) usable = hn::AndNot(down, usable);
-  // Gather offsets relative to the own row (the three rows lie in one allocation).
-  const int32_t off_up = row.rows[0] ? int32_t(row.rows[0] - row.rows[1]) : 0;
-  const int32_t off_down = row.rows[2] ? int32_t(row.rows[2] - row.rows[1]) : 0;
-  const VI row_offset = hn::IfThenElse(up, hn::Set(di, off_up), hn::IfThenElseZero(down, hn::Set(di, off_down)));
-  const VI index = hn::IfThenElseZero(usable, hn::Add(row_offset, hn::Mul(nx, hn::Set(di, 3))));
-  const auto sr = hn::GatherIndex(df, row.rows[1], index);
-  const auto sg = hn::GatherIndex(df, row.rows[1] + 1, index);
-  const auto sb = hn::GatherIndex(df, row.rows[1] + 2, index);
-  const auto area = hn::Mul(hn::ConvertTo(df, hn::BitCast(di, hn::And(packed, hn::Set(du, 0xffffu)))),
-                            hn::Set(df, 1.0f / 65535.0f));
-  const auto a = hn::IfThenElse(primary_is_b, hn::Sub(hn::Set(df, 1.0f), area), area);
-  const auto not_a = hn::Sub(hn::Set(df, 1.0f), a);
-  const auto blend = hn::RebindMask(df, usable);
-  const auto br = hn::Add(hn::Mul(a, r), hn::Mul(not_a, sr));
-  const auto bg = hn::Add(hn::Mul(a, g), hn::Mul(not_a, sg));
-  const auto bb = hn::Add(hn::Mul(a, b), hn::Mul(not_a, sb));
-  hn::StoreInterleaved3(hn::IfThenElse(blend, br, r), hn::IfThenElse(blend, bg, g), hn::IfThenElse(blend, bb, b), df,
-                        out);
-}
-
+// The simple pixels (2 <= type < 14) among types[0 .. kAntialiasChunk), one bit each.
 // The simple pixels (2 <= type < 14) among types[0 .. kAntialiasChunk), one bit each.
 constexpr int kAntialiasChunk = 64;
 HWY_INLINE uint64_t SimpleBits(const uint8_t* types) {
@@ -134,9 +78,9 @@ HWY_INLINE uint64_t SimpleBits(const uint8_t* types) {
 }
 
 // The row in chunks of 64 pixels: the own colours copied as they are (most pixels pass
-// through), then each simple pixel of the chunk blended, found by its bit; a float vector
-// with more than kGatherFrom simple pixels is blended in lanes (gathers) instead.
-constexpr size_t kGatherFrom = 8;
+// through), then each simple pixel of the chunk blended, found by its bit. (Blending dense
+// vectors in lanes, with the secondary colours gathered, was slower even with many edges:
+// docs/epi.md, "SIMD kernels".)
 constexpr int kPrefetchAhead = 8 * kAntialiasChunk;  // pixels
 inline void AntialiasRowKernel(const AntialiasRow& row) {
   const hn::ScalableTag<float> df;
@@ -161,16 +105,6 @@ inline void AntialiasRowKernel(const AntialiasRow& row) {
       uint8_t types[kAntialiasChunk] = {};  // type 0 beyond the row: not simple
       std::memcpy(types, row.types + x0, size_t(chunk));
       bits = SimpleBits(types);
-    }
-    if (nf > 1) {
-      // Dense vectors in lanes; their bits cleared.
-      const uint64_t lanes = nf == 64 ? ~uint64_t{0} : (uint64_t{1} << nf) - 1;
-      for (int i = 0; i + nf <= chunk; i += nf)
-        if (size_t(hwy::PopCount((bits >> i) & lanes)) > kGatherFrom) {
-          const int x = x0 + i;
-          AntialiasLanes(df, row, x, row.types + x, row.edge + x, own + 3 * x, out + 3 * x);
-          bits &= ~(lanes << i);
-        }
     }
     for (; bits; bits &= bits - 1) {
       const int x = x0 + int(hwy::Num0BitsBelowLS1Bit_Nonzero64(bits));

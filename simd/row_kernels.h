@@ -101,7 +101,7 @@ struct ClassifyRow {
 };
 
 // One row of anti-aliasing (antialias.h) over the filled primary colours (3 floats per pixel):
-// rows[0..2] rows y - 1, y, y + 1 (nullptr outside the image; all three in one allocation).
+// rows[0..2] rows y - 1, y, y + 1 (nullptr outside the image).
 struct AntialiasRow {
   int width;
   const float* rows[3];
