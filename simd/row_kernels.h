@@ -132,7 +132,9 @@ struct FillRow {
   const float* rows[5];
   const uint8_t* found[5];
   const uint32_t* reach;  // the row's own masks
-  float* out;             // 3 floats per pixel
+  // 3 floats per pixel; or rows[2] itself (in place: the kernel reads only found pixels and
+  // writes only the others, so the rows after read the same colours; the tiled schedule).
+  float* out;
 };
 
 struct RowKernels {

@@ -72,7 +72,8 @@ TEST_P(RowKernels, AntialiasEqualsTheOracle) {
 }
 
 // Padded rows (simd::FillRow): random colours and found flags (0 to all pixels unfound), random
-// reach masks; rows outside the image missing in every combination (zero rows for the kernel).
+// reach masks; rows outside the image missing in every combination (zero rows for the kernel);
+// into a separate row and in place.
 TEST_P(RowKernels, FillEqualsTheOracle) {
   std::mt19937_64 rng(32);
   std::uniform_real_distribution<float> colour(0.0f, 1.0f);
@@ -119,6 +120,12 @@ TEST_P(RowKernels, FillEqualsTheOracle) {
         for (int x = 0; x < w; ++x)
           ASSERT_TRUE(same_bits(&expected[size_t(3 * x)], &out[size_t(3 * x)], 3))
               << "pixel " << x << " found " << int(oracle_found[2][x]) << " reach " << reach[size_t(x)];
+        // In place (the tiled schedule): the own row overwritten, the same colours.
+        float* own = rgb.data() + 3 * (2 * plane + simd::kPad);
+        row.out = own;
+        kernels().fill(row);
+        for (int x = 0; x < w; ++x)
+          ASSERT_TRUE(same_bits(&expected[size_t(3 * x)], own + 3 * x, 3)) << "in place, pixel " << x;
       }
   EXPECT_GT(filled, 4000);
 }
