@@ -6,6 +6,7 @@ there is typed by hand.
   build/bin/epi_bench --benchmark_filter='BM_StreamingFloor|BM_Filters|BM_Reconstruct/|BM_RenderCache|BM_ReachReuse' \\
       --benchmark_repetitions=3 --benchmark_min_time=0.05 --benchmark_format=json > filters.json
   python3 bench/perf_tables.py filters.json
+  python3 bench/perf_tables.py --ab base-*.json --new new-*.json   # stage by stage, two binaries
 
 Each figure is the best of the repetitions (the machine is shared; the best run is the least
 disturbed one). One-thread figures are CPU times of the thread doing the work (robust under
@@ -143,7 +144,59 @@ def main(paths):
     print("\n".join(out))
 
 
+def stage_ab(base_paths, new_paths):
+    """Per stage, one thread: the oracle and the best target (kernel argument 1) of two sets of
+    runs (a base and a changed binary, run alternately): best CPU ms of each, new / base, and the
+    changed binary's speed-up over its oracle. Then the whole tiled reconstruction the same way."""
+    sets = []
+    for paths in (base_paths, new_paths):
+        runs, context = load(paths)
+        stages, whole, floor, label = defaultdict(list), defaultdict(list), defaultdict(list), {}
+        for r in runs:
+            bench, a = args(r["name"])
+            if bench == "BM_StreamingFloor":
+                floor[(a[0], a[1])].append(r["cpu_time"])
+            elif bench == "BM_Filters" and a[3] == 1 and a[2] in (0, 1):
+                label[a[2]] = r["label"].split()[0]
+                for s in STAGES:
+                    stages[(a[0], a[1], a[4], a[2], s)].append(r[f"{s}_cpu_ms"])
+            elif bench == "BM_Reconstruct" and a[3] == 1 and a[2] in (0, 1):
+                whole[(a[0], a[1], a[4], a[2])].append(r["cpu_time"])
+        sets.append((stages, whole, floor, label, context))
+    (bs, bw, bf, bl, bc), (ns, nw, nf, nl, nc) = sets
+    out = []
+    for name, c, fl in (("base", bc, bf), ("new", nc, nf)):
+        out.append(f"{name}: runs from {c.get('date', '?')}, load average at the start "
+                   f"{', '.join(f'{x:.1f}' for x in c.get('load_avg', []))}; streaming floor (CPU ms) " +
+                   ", ".join(f"{SIZE_NAMES.get(k, k)} {fmt(best(v), 3)}" for k, v in sorted(fl.items())) + ".")
+    t = nl.get(1, "target 1")
+    out.append(f"\n| size | edges | stage | oracle base | oracle new | {t} base | {t} new | new / base | speed-up over the oracle (new) |")
+    out.append("|---|---|---|---|---|---|---|---|---|")
+    for (w, h, edges, k, s) in sorted(ns, key=lambda x: (x[0] * x[1], x[2], STAGES.index(x[4]), x[3])):
+        if k != 1:
+            continue
+        ob, on = best(bs.get((w, h, edges, 0, s), [])), best(ns.get((w, h, edges, 0, s), []))
+        b, n = best(bs.get((w, h, edges, 1, s), [])), best(ns.get((w, h, edges, 1, s), []))
+        ratio = f"{n / b:.2f}" if b and n else "-"
+        speedup = f"{on / n:.1f}x" if on and n and s != "decode" else "-"
+        out.append(f"| {SIZE_NAMES.get((w, h))} | {'many' if edges else 'few'} | {s} | {fmt(ob, 2)} | {fmt(on, 2)} | "
+                   f"{fmt(b, 2)} | {fmt(n, 2)} | {ratio} | {speedup} |")
+    out.append(f"\n| size | edges | tiled {t} 1T base (CPU ms) | new | new / base | new, x_floor |")
+    out.append("|---|---|---|---|---|---|")
+    for (w, h, edges, k) in sorted(nw, key=lambda x: (x[0] * x[1], x[2])):
+        if k != 1:
+            continue
+        b, n, fl = best(bw.get((w, h, edges, 1), [])), best(nw.get((w, h, edges, 1), [])), best(nf.get((w, h), []))
+        out.append(f"| {SIZE_NAMES.get((w, h))} | {'many' if edges else 'few'} | {fmt(b)} | {fmt(n)} | "
+                   f"{n / b:.2f} | {fmt(n / fl) if fl else '-'} |")
+    print("\n".join(out))
+
+
 if __name__ == "__main__":
     if len(sys.argv) < 2:
         sys.exit(__doc__)
-    main(sys.argv[1:])
+    if sys.argv[1] == "--ab":  # --ab BASE.json... --new NEW.json...
+        i = sys.argv.index("--new")
+        stage_ab(sys.argv[2:i], sys.argv[i + 1:])
+    else:
+        main(sys.argv[1:])

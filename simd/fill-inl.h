@@ -11,6 +11,7 @@
 
 #include <cstring>
 
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
 #include "simd/interpolate-inl.h"
@@ -28,7 +29,10 @@ HWY_INLINE void FillLanes(DF df, const FillRow& row, int x, const uint32_t* reac
   const hn::RebindToUnsigned<DF> du;
   const hn::Rebind<uint8_t, DF> d8;
   const auto found = hn::Ne(hn::PromoteTo(du, hn::LoadU(d8, row.found[2] + x)), hn::Zero(du));
-  if (hn::AllTrue(du, found)) return CopyPixels(df, row.rows[2] + 3 * x, out);  // nothing to fill
+  if (hn::AllTrue(du, found)) {  // nothing to fill
+    if (out != row.rows[2] + 3 * x) CopyPixels(df, row.rows[2] + 3 * x, out);
+    return;
+  }
   hn::Vec<DF> r, g, b;
   hn::LoadInterleaved3(df, row.rows[2] + 3 * x, r, g, b);
   // The 24-bit mask spread over the 25 window positions, the centre left out.
@@ -54,11 +58,35 @@ HWY_INLINE void FillLanes(DF df, const FillRow& row, int x, const uint32_t* reac
                         hn::IfThenElse(fill, hn::Div(sb, safe), b), df, out);
 }
 
+// The colours and found flags of rows y + 1 and y + 2 at pixels x .. x + kFillPrefetchStep - 1.
+constexpr int kFillPrefetchStep = 64, kFillPrefetchAhead = 8 * kFillPrefetchStep;
+inline void PrefetchRowsBelow(const FillRow& row, int x) {
+  for (int k = 3; k < 5; ++k) {
+    for (int i = 0; i < 3 * kFillPrefetchStep; i += 16) hwy::Prefetch(row.rows[k] + 3 * x + i);
+    hwy::Prefetch(row.found[k] + x);
+  }
+}
+
 inline void FillRowKernel(const FillRow& row) {
   const hn::ScalableTag<float> df;
   const int n = int(hn::Lanes(df));
   int x = 0;
-  for (; x + n <= row.width; x += n) FillLanes(df, row, x, row.reach + x, row.out + 3 * x);
+  if (row.out == row.rows[2]) {
+    // In place: found pixels stay as they are, so 64 pixels whose flags are all set are skipped
+    // on one compare of their flags (most of them).
+    const hn::ScalableTag<uint8_t> d8;
+    const int n8 = int(hn::Lanes(d8));
+    for (; x + n8 <= row.width; x += n8)
+      if (!hn::AllTrue(d8, hn::Ne(hn::LoadU(d8, row.found[2] + x), hn::Zero(d8))))
+        for (int i = x; i < x + n8; i += n) FillLanes(df, row, i, row.reach + i, row.out + 3 * i);
+  }
+  for (; x + n <= row.width; x += n) {
+    // Rows y + 1 and y + 2 are read only by vectors with a pixel to fill: scattered loads the
+    // hardware prefetcher does not follow, each a miss in the staged schedule (whole-image
+    // planes). They are the next rows' own rows, so bringing them in now costs no extra traffic.
+    if ((x & (kFillPrefetchStep - 1)) == 0) PrefetchRowsBelow(row, x + kFillPrefetchAhead);
+    FillLanes(df, row, x, row.reach + x, row.out + 3 * x);
+  }
   if (x == row.width) return;
   constexpr int kMax = HWY_LANES(float);
   const int rest = row.width - x;

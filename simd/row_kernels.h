@@ -101,7 +101,7 @@ struct ClassifyRow {
 };
 
 // One row of anti-aliasing (antialias.h) over the filled primary colours (3 floats per pixel):
-// rows[0..2] rows y - 1, y, y + 1 (nullptr outside the image; all three in one allocation).
+// rows[0..2] rows y - 1, y, y + 1 (nullptr outside the image).
 struct AntialiasRow {
   int width;
   const float* rows[3];
@@ -132,7 +132,9 @@ struct FillRow {
   const float* rows[5];
   const uint8_t* found[5];
   const uint32_t* reach;  // the row's own masks
-  float* out;             // 3 floats per pixel
+  // 3 floats per pixel; or rows[2] itself (in place: the kernel reads only found pixels and
+  // writes only the others, so the rows after read the same colours; the tiled schedule).
+  float* out;
 };
 
 struct RowKernels {

@@ -285,6 +285,17 @@ void interpolate_stage(RowJob& j, int y) {
   }
 }
 
+// fill_in_place: in the tiled schedule with the vector kernels the filled rows are the
+// interpolated rows (Plane::filled aliases Plane::interp): the fill step reads only pixels that
+// found samples and writes only those that did not, so filling row y in place changes nothing
+// the fill of rows y + 1 and y + 2 reads, and the pass-through pixels (nearly all) are never
+// copied; anti-aliasing then writes the image row from the interpolated row. The interpolated
+// ring holds the rows until the output stages have read them. Not in the staged schedule: its
+// threads share whole-image planes, and a fill writing row y in place would race with the
+// fills of rows y +- 1, y +- 2 on other threads loading those vectors.
+static_assert(stage_lag(Stage::antialias) + 1 - stage_lag(Stage::interpolate) < ring_rows(Plane::interp) &&
+                  stage_lag(Stage::complex) - stage_lag(Stage::interpolate) < ring_rows(Plane::interp),
+              "the interpolated ring must hold the rows the output stages read as filled rows");
 void fill_stage(RowJob& j, int y) {
   const float* interp_rows[5];
   const uint8_t* found_rows[5];
@@ -294,6 +305,7 @@ void fill_stage(RowJob& j, int y) {
   }
   const uint32_t* reach = j.reach.row(y);
   float* out = j.filled.row(y);
+  const bool in_place = j.filled.data == j.interp.data;  // fill_in_place
   if (vector_kernels(j) && j.settings.fill) {
     simd::FillRow row{j.width, {}, {}, reach, out};
     const float* zeros = j.zero_samples + 3 * simd::kPad;  // a zero row, padding included
@@ -304,6 +316,7 @@ void fill_stage(RowJob& j, int y) {
     j.kernels->fill(row);
     return;
   }
+  if (in_place) return;  // without the fill step the filled row is the interpolated row
   for (int x = 0; x < j.width; ++x) fill(j.settings, x, j.width, reach[x], interp_rows, found_rows, out + 3 * x);
 }
 
@@ -508,6 +521,7 @@ void Reconstructor::tiled(const EpiImage& epi, const BoundaryMasks& masks, const
                {ring.padded_types.data(), samples_plane(w), kClassRingRows - 1},
                y0, y1 - 1, &band_counts[size_t(b)], local.priority.data(),
                ring.zero_samples.data(), ring.outside_types.data()};
+    if (kernels_) job.filled = job.interp;  // fill_in_place
     job.reuse_reach = schedule.reach_symmetry, job.reuse_relations = schedule.reuse_relations;
     job.relations = local.relations.data();
     job.complex_cache = &local.complex_cache, local.complex_cache.reset();
