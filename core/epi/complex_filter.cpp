@@ -76,9 +76,11 @@ const std::array<uint64_t, 256>& spread_bits_to_bytes() {
   return table;
 }
 
-const std::array<SubCell, 258>& sub_cells() {
-  static const std::array<SubCell, 258> table = [] {
-    std::array<SubCell, 258> t{};
+const std::array<SubCell, 512>& sub_cells() {
+  static const std::array<SubCell, 512> table = [] {
+    std::array<SubCell, 512> t{};
+    for (size_t k = 0; k < 256; ++k) t[k] = {0, uint16_t(CellKind::empty), uint8_t(CellKind::empty), 0, 0};
+    for (size_t k = 256; k < 512; ++k) t[k] = {0, uint16_t(CellKind::complex), uint8_t(CellKind::complex), 0, 0xff};
     const auto& spread = spread_bits_to_bytes();
     const auto& geometry = sub_pixel_geometry();
     for (int a = 0; a < 16; ++a)
@@ -87,11 +89,14 @@ const std::array<SubCell, 258>& sub_cells() {
         const uint8_t sides[4] = {uint8_t(i & 15), uint8_t((i >> 4) & 15), uint8_t((i >> 8) & 15), uint8_t(i >> 12)};
         const geom::CellClass c = geom::classify_cell(sides, 4);
         const uint8_t code = c.kind == CellKind::simple ? uint8_t(c.p_low * 16 + c.p_high) : 0;
+        uint8_t quarters = 0xff;
+        if (c.kind != CellKind::complex) {
+          quarters = 0;
+          for (int q = 0; q < 4; ++q) quarters = uint8_t(quarters | geometry[code].quarter[q] << (2 * q));
+        }
         t[size_t(a * 16 + b)] = {spread[geometry[code].probe_bits], uint16_t(int(c.kind) | c.p_low << 2 | c.p_high << 6),
-                                 uint8_t(c.kind), code};
+                                 uint8_t(c.kind), code, quarters};
       }
-    t[256] = {0, uint16_t(CellKind::empty), uint8_t(CellKind::empty), 0};
-    t[257] = {0, uint16_t(CellKind::complex), uint8_t(CellKind::complex), 0};
     return t;
   }();
   return table;

@@ -74,16 +74,21 @@ struct SubCell {
   uint64_t probes;  // SubPixelGeometry::probe_bits, bit k at bit 8k (0 unless simple)
   uint16_t cls;     // kind | p_low << 2 | p_high << 6
   uint8_t kind, code;  // code: 16 p_low + p_high where simple, else 0
+  // The region of a sample in quarter q (SubPixelGeometry::quarter) at bits 2q, 2q + 1: 3 where
+  // complex (the sample is dropped), 0 where empty.
+  uint8_t quarters;
 };
-// Entries 0-255: two crossings, by 16 a + b (a < b their bit indices), from classify_cell itself;
-// 256: at most one crossing (empty); 257: more than two (complex): classify_cell's own rules.
-const std::array<SubCell, 258>& sub_cells();
-// The entry of a sub-pixel by its side masks (index top | right << 4 | bottom << 8 | left << 12).
+// Entry 16 a + b: two crossings a < b (their bit indices), from classify_cell itself; at most
+// one crossing (a >= b: sub_cell_entry gives b = 0) empty; entries 256-511: more than two
+// crossings, complex (classify_cell's own rules).
+const std::array<SubCell, 512>& sub_cells();
+// The entry of a sub-pixel by its side masks (index top | right << 4 | bottom << 8 | left << 12):
+// arithmetic only (as selects, GCC compiled it to branches on the crossing count, which
+// mispredicted).
 inline size_t sub_cell_entry(uint32_t index) {
   const uint32_t rest = index & (index - 1);  // without the lowest crossing
-  const size_t pair = size_t((__builtin_ctz(index | 0x10000) & 15) * 16 + (__builtin_ctz(rest | 0x10000) & 15));
-  const size_t one_or_two = rest == 0 ? 256 : pair;
-  return (rest & (rest - 1)) != 0 ? 257 : one_or_two;
+  const uint32_t more = uint32_t((rest & (rest - 1)) != 0);  // a third crossing
+  return size_t((__builtin_ctz(index | 0x10000) & 15) * 16 + (__builtin_ctz(rest | 0x10000) & 15) + (more << 8));
 }
 
 
@@ -94,8 +99,8 @@ struct ComplexRowCache::Pixel {
   uint64_t stamp = 0;   // generation << 32 | row: computed for that row in that generation
   uint64_t column[2];   // column[sx]: bit 8k + sy = probe bit k of sub-pixel (sx, sy)
   uint16_t ok;          // bit 8 sy + sx: sub-pixel (sx, sy) not complex
-  uint8_t kind[2][2];   // [sy][sx]
-  uint8_t code[2][2];
+  uint32_t kinds;       // CellKind of sub-pixel (sx, sy) at byte 2 sy + sx
+  uint32_t codes;       // its edge code (16 p_low + p_high; 0 unless simple), the same bytes
   float present;        // the sample: 1 in a region (not dropped), else 0
   uint8_t sx, sy, region;
   complex_detail::Rgb4 rgb;             // finite also when absent; lane 3 is 0

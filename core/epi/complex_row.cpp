@@ -41,8 +41,9 @@ struct Strip {
   // Boards of the strip's two columns (bits v * 8 + sx): not complex (inside the image), and
   // the eight probe bits of SubPixelGeometry::probe_bits (side * 2 + k).
   uint64_t ok = 0, probe[8] = {};
-  uint8_t kind[6][2];  // CellKind, complex outside the image
-  uint8_t code[6][2];  // simple: the edge code 16 p_low + p_high; else 0 (no probe bits, quarters 0)
+  // Of the middle pixel (px, y), the one window that has the strip in its middle asks for:
+  // Pixel::kinds and Pixel::codes (complex, 0 outside the image).
+  uint32_t kinds, codes;
   struct Sample {
     float present;  // 1: a sample in a region (not dropped), else 0
     uint8_t sx, v, region;
@@ -54,28 +55,29 @@ struct Strip {
 
 using Pixel = ComplexRowCache::Pixel;
 
-void compute_pixel(Pixel& p, const EpiRows& epi, const BoundaryMasks& masks, int px, int py,
-                   const std::array<SubPixelGeometry, 256>& geometry) {
-  const std::array<SubCell, 258>& cells = sub_cells();
+[[gnu::always_inline]] inline void compute_pixel(Pixel& p, const EpiRows& epi, const BoundaryMasks& masks, int px, int py) {
+  const std::array<SubCell, 512>& cells = sub_cells();
   const size_t i = masks.index(px, py);
   const uint32_t top = masks.top[i], bottom = masks.top[i + size_t(masks.width) + 1], left = masks.left[i],
                  right = masks.left[i + 1], centre_h = masks.centre_h[i], centre_v = masks.centre_v[i];
   uint64_t column[2] = {};
-  uint32_t ok = 0;
+  uint32_t ok = 0, kinds = 0, codes = 0, quarters = 0;
   for (int sy = 0; sy < 2; ++sy)
     for (int sx = 0; sx < 2; ++sx) {
       const uint32_t t = half(sy == 0 ? top : centre_h, sx), r = half(sx == 0 ? centre_v : right, sy);
       const uint32_t b = half(sy == 0 ? centre_h : bottom, sx), l = half(sx == 0 ? left : centre_v, sy);
       const SubCell& cell = cells[sub_cell_entry(t | r << 4 | b << 8 | l << 12)];
-      p.kind[sy][sx] = cell.kind, p.code[sy][sx] = cell.code;
+      const int byte = 8 * (2 * sy + sx);
+      kinds |= uint32_t(cell.kind) << byte, codes |= uint32_t(cell.code) << byte;
+      quarters |= uint32_t(cell.quarters) << byte;
       ok |= uint32_t(cell.kind != uint8_t(CellKind::complex)) << (sy * kStride + sx);
       column[sx] |= cell.probes << sy;
     }
-  p.column[0] = column[0], p.column[1] = column[1], p.ok = uint16_t(ok);
+  p.column[0] = column[0], p.column[1] = column[1], p.ok = uint16_t(ok), p.kinds = kinds, p.codes = codes;
+  // The sample's region from its quarter of its sub-pixel (3: dropped, the sub-pixel complex).
   const uint16_t e = epi.edge_at(px, py);
-  const int r = sample_region(e), rx = r & 3, ry = r >> 2, sx = rx >> 1, sy = ry >> 1;
-  const bool complex = p.kind[sy][sx] == uint8_t(CellKind::complex);
-  const int region = complex ? 3 : geometry[p.code[sy][sx]].quarter[(rx & 1) + 2 * (ry & 1)];
+  const uint32_t r = uint32_t(sample_region(e)), rx = r & 3, ry = r >> 2, sx = rx >> 1, sy = ry >> 1;
+  const uint32_t region = (quarters >> (8 * (2 * sy + sx) + 2 * ((rx & 1) + 2 * (ry & 1)))) & 3;
   p.present = float(has_sample(e) && region < 2);
   p.sx = uint8_t(sx), p.sy = uint8_t(sy), p.region = uint8_t(region & 1);
   float rgb[3];
@@ -83,8 +85,7 @@ void compute_pixel(Pixel& p, const EpiRows& epi, const BoundaryMasks& masks, int
   p.rgb = Rgb4{rgb[0], rgb[1], rgb[2], 0.0f};
 }
 
-void fill_strip(Strip& s, const EpiRows& epi, const BoundaryMasks& masks, int px, int y,
-                const std::array<SubPixelGeometry, 256>& geometry, ComplexRowCache::Rows& cache) {
+void fill_strip(Strip& s, const EpiRows& epi, const BoundaryMasks& masks, int px, int y, ComplexRowCache::Rows& cache) {
   const std::array<uint64_t, 256>& spread = spread_bits_to_bytes();
   s.px = px;
   uint64_t ok = 0, column[2] = {};  // column[sx]: bit 8k + v = probe bit k of sub-pixel (sx, v)
@@ -92,16 +93,14 @@ void fill_strip(Strip& s, const EpiRows& epi, const BoundaryMasks& masks, int px
     const int py = y - 1 + j;
     Strip::Sample& sample = s.sample[j];
     if (!epi.inside(px, py)) {
-      for (int v = 2 * j; v < 2 * j + 2; ++v)
-        s.kind[v][0] = s.kind[v][1] = uint8_t(CellKind::complex), s.code[v][0] = s.code[v][1] = 0;
+      if (j == 1) s.kinds = uint8_t(CellKind::complex) * 0x01010101u, s.codes = 0;
       sample = {0.0f, 0, uint8_t(2 * j), 0, Rgb4{0, 0, 0, 0}};
       continue;
     }
     Pixel& p = cache.row[py & 3][size_t(px)];
     const uint64_t stamp = cache.generation << 32 | uint32_t(py);
-    if (p.stamp != stamp) compute_pixel(p, epi, masks, px, py, geometry), p.stamp = stamp;
-    for (int sy = 0; sy < 2; ++sy)
-      for (int sx = 0; sx < 2; ++sx) s.kind[2 * j + sy][sx] = p.kind[sy][sx], s.code[2 * j + sy][sx] = p.code[sy][sx];
+    if (p.stamp != stamp) compute_pixel(p, epi, masks, px, py), p.stamp = stamp;
+    if (j == 1) s.kinds = p.kinds, s.codes = p.codes;
     ok |= uint64_t(p.ok) << (2 * j * kStride);
     column[0] |= p.column[0] << (2 * j), column[1] |= p.column[1] << (2 * j);
     sample.present = p.present, sample.sx = p.sx, sample.v = uint8_t(2 * j + p.sy), sample.region = p.region;
@@ -146,7 +145,7 @@ void complex_window(const Strip* const w[3], const float estimate[3], float out[
   uint64_t c0[8], c1[8];
   for (int r = 0; r < 4; ++r) {
     const int u = 2 + (r & 1), v = 2 + (r >> 1);
-    const uint8_t kind = w[1]->kind[v][u - 2];
+    const uint8_t kind = uint8_t(w[1]->kinds >> (8 * (2 * (v - 2) + u - 2)));
     const uint64_t bit = 1ull << (v * kStride + u);
     c0[r] = kind != uint8_t(CellKind::complex) ? bit : 0, c1[r] = 0;
     c0[r + 4] = 0, c1[r + 4] = kind == uint8_t(CellKind::simple) ? bit : 0;
@@ -211,8 +210,8 @@ void complex_window(const Strip* const w[3], const float estimate[3], float out[
   I4 simple = {}, empty = {};
   for (int r = 0; r < 4; ++r) {
     const int u = 2 + (r & 1), v = 2 + (r >> 1);
-    const uint8_t kind = w[1]->kind[v][u - 2];
-    area[r] = geometry[w[1]->code[v][u - 2]].area;
+    const uint8_t kind = uint8_t(w[1]->kinds >> (8 * (2 * (v - 2) + u - 2)));
+    area[r] = geometry[(w[1]->codes >> (8 * (2 * (v - 2) + u - 2))) & 255].area;
     simple[r] = -int(kind == uint8_t(CellKind::simple)), empty[r] = -int(kind == uint8_t(CellKind::empty));
   }
   const F8* cols[3] = {&col0, &col1, &col2};
@@ -310,13 +309,13 @@ void complex_window(const Strip* const w[3], const float estimate[3], float out[
   Rgb4 result = {0, 0, 0, 0};
   for (int v = 2; v <= 3; ++v)
     for (int u = 2; u <= 3; ++u) {
-      const CellKind kind = CellKind(w[1]->kind[v][u - 2]);
+      const CellKind kind = CellKind(uint8_t(w[1]->kinds >> (8 * (2 * (v - 2) + u - 2))));
       Rgb4 rgb = own;
       if (kind == CellKind::empty) {
         rgb = region_color(u, v, 0);
       } else if (kind == CellKind::simple) {
         const Rgb4 a_rgb = region_color(u, v, 0), b_rgb = region_color(u, v, 1);
-        const float a = geometry[w[1]->code[v][u - 2]].area;
+        const float a = geometry[(w[1]->codes >> (8 * (2 * (v - 2) + u - 2))) & 255].area;
         rgb = a * a_rgb + (1.0f - a) * b_rgb;
       }
       result += 0.25f * rgb;
@@ -353,7 +352,7 @@ void ComplexRowKernel(const EpiRows& epi, const BoundaryMasks& masks, int y, con
     for (std::vector<Pixel>& r : rows.row) r.assign(size_t(epi.width), Pixel{});
     rows.width = epi.width, ++rows.generation;
   }
-  Strip cache[3];
+  Strip ring[4];
   // The row's complex pixels, found by memchr a chunk at a time, each prefetched kAhead before.
   constexpr int kChunk = 64, kAhead = 6;
   int xs[kChunk];
@@ -367,18 +366,14 @@ void ComplexRowKernel(const EpiRows& epi, const BoundaryMasks& masks, int y, con
     for (int k = 0; k < n; ++k) {
       if (k + kAhead < n) prefetch_window(epi, masks, xs[k + kAhead], y, estimate, out);
       const int x = xs[k];
-      // The strips of columns x - 1 .. x + 1: kept from the window before where it had them.
-      const Strip* window[3] = {};
-      bool taken[3] = {};
-      for (int i = 0; i < 3; ++i)
-        for (int c = 0; c < 3; ++c)
-          if (cache[c].px == x - 1 + i) window[i] = &cache[c], taken[c] = true;
+      // The strips of columns x - 1 .. x + 1, column px at ring[px & 3]: kept from the windows
+      // before where they had them (windows go left to right: a ring of four never drops one
+      // still needed).
+      const Strip* window[3];
       for (int i = 0; i < 3; ++i) {
-        if (window[i]) continue;
-        int c = 0;
-        while (taken[c]) ++c;
-        fill_strip(cache[c], epi, masks, x - 1 + i, y, geometry, rows);
-        window[i] = &cache[c], taken[c] = true;
+        Strip& s = ring[size_t((x - 1 + i) & 3)];
+        if (s.px != x - 1 + i) fill_strip(s, epi, masks, x - 1 + i, y, rows);
+        window[i] = &s;
       }
       complex_window(window, estimate + 3 * x, out + 3 * x, geometry);
     }
