@@ -96,7 +96,6 @@ inline size_t sub_cell_entry(uint32_t index) {
 
 // One pixel's sub-pixels and sample as strips take them (ComplexRowCache).
 struct ComplexRowCache::Pixel {
-  uint64_t stamp = 0;   // generation << 32 | row: computed for that row in that generation
   uint64_t column[2];   // column[sx]: bit 8k + sy = probe bit k of sub-pixel (sx, sy)
   uint16_t ok;          // bit 8 sy + sx: sub-pixel (sx, sy) not complex
   uint32_t kinds;       // CellKind of sub-pixel (sx, sy) at byte 2 sy + sx
@@ -106,8 +105,12 @@ struct ComplexRowCache::Pixel {
   complex_detail::Rgb4 rgb;             // finite also when absent; lane 3 is 0
 };
 struct ComplexRowCache::Rows {
-  std::vector<Pixel> row[4];  // image row py at row[py & 3]
+  std::vector<Pixel> row[4];      // image row py at row[py & 3]
+  std::vector<uint64_t> done[4];  // bit px of done[py & 3]: row[py & 3][px] computed
+  uint64_t slot_row[4] = {};      // generation << 32 | py: the row a slot holds (0: none)
   uint64_t generation = 1;
   int width = -1;
+  std::vector<int> xs;            // scratch: the complex pixels of the row
+  std::vector<uint64_t> needed;   // scratch: the columns of their windows, one bit each
 };
 }  // namespace epi

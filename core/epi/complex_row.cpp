@@ -85,7 +85,7 @@ using Pixel = ComplexRowCache::Pixel;
   p.rgb = Rgb4{rgb[0], rgb[1], rgb[2], 0.0f};
 }
 
-void fill_strip(Strip& s, const EpiRows& epi, const BoundaryMasks& masks, int px, int y, ComplexRowCache::Rows& cache) {
+void fill_strip(Strip& s, const EpiRows& epi, int px, int y, const ComplexRowCache::Rows& cache) {
   const std::array<uint64_t, 256>& spread = spread_bits_to_bytes();
   s.px = px;
   uint64_t ok = 0, column[2] = {};  // column[sx]: bit 8k + v = probe bit k of sub-pixel (sx, v)
@@ -97,9 +97,7 @@ void fill_strip(Strip& s, const EpiRows& epi, const BoundaryMasks& masks, int px
       sample = {0.0f, 0, uint8_t(2 * j), 0, Rgb4{0, 0, 0, 0}};
       continue;
     }
-    Pixel& p = cache.row[py & 3][size_t(px)];
-    const uint64_t stamp = cache.generation << 32 | uint32_t(py);
-    if (p.stamp != stamp) compute_pixel(p, epi, masks, px, py), p.stamp = stamp;
+    const Pixel& p = cache.row[py & 3][size_t(px)];  // computed (ComplexRowKernel)
     if (j == 1) s.kinds = p.kinds, s.codes = p.codes;
     ok |= uint64_t(p.ok) << (2 * j * kStride);
     column[0] |= p.column[0] << (2 * j), column[1] |= p.column[1] << (2 * j);
@@ -329,8 +327,7 @@ void complex_window(const Strip* const w[3], const float estimate[3], float out[
 // Prefetches what the window of complex pixel (x, y) reads: in the staged schedule its planes
 // are cold, and complex pixels are scattered, so without it the filter waits on memory. Always
 // inlined: GCC deletes calls of a function that only prefetches (it has no side effects).
-[[gnu::always_inline]] inline void prefetch_window(const EpiRows& epi, const BoundaryMasks& masks, int x, int y,
-                                                   const float* estimate, const float* out) {
+[[gnu::always_inline]] inline void prefetch_window(const EpiRows& epi, const BoundaryMasks& masks, int x, int y) {
   const int x0 = std::max(x - 1, 0);
   for (int py = std::max(y - 1, 0); py <= std::min(y + 1, epi.height - 1); ++py) {
     const size_t i = masks.index(x0, py);
@@ -339,7 +336,6 @@ void complex_window(const Strip* const w[3], const float estimate[3], float out[
     __builtin_prefetch(&masks.top[i + size_t(masks.width) + 1]);
     __builtin_prefetch(epi.edge_row(py) + x0), __builtin_prefetch(epi.color_row(py) + x0);
   }
-  __builtin_prefetch(estimate + 3 * x), __builtin_prefetch(out + 3 * x, 1);
 }
 
 
@@ -350,33 +346,61 @@ void ComplexRowKernel(const EpiRows& epi, const BoundaryMasks& masks, int y, con
   const std::array<SubPixelGeometry, 256>& geometry = sub_pixel_geometry();
   if (rows.width != epi.width) {
     for (std::vector<Pixel>& r : rows.row) r.assign(size_t(epi.width), Pixel{});
+    for (std::vector<uint64_t>& d : rows.done) d.assign((size_t(epi.width) + 63) / 64, 0);
     rows.width = epi.width, ++rows.generation;
   }
-  Strip ring[4];
-  // The row's complex pixels, found by memchr a chunk at a time, each prefetched kAhead before.
-  constexpr int kChunk = 64, kAhead = 6;
-  int xs[kChunk];
-  const size_t w = size_t(epi.width);
-  const uint8_t* p = static_cast<const uint8_t*>(std::memchr(types, kTypeComplex, w));
-  while (p) {
-    int n = 0;
-    for (; p && n < kChunk; p = static_cast<const uint8_t*>(std::memchr(p + 1, kTypeComplex, w - size_t(p + 1 - types))))
-      xs[n++] = int(p - types);
-    for (int k = 0; k < std::min(n, kAhead); ++k) prefetch_window(epi, masks, xs[k], y, estimate, out);
-    for (int k = 0; k < n; ++k) {
-      if (k + kAhead < n) prefetch_window(epi, masks, xs[k + kAhead], y, estimate, out);
-      const int x = xs[k];
-      // The strips of columns x - 1 .. x + 1, column px at ring[px & 3]: kept from the windows
-      // before where they had them (windows go left to right: a ring of four never drops one
-      // still needed).
-      const Strip* window[3];
-      for (int i = 0; i < 3; ++i) {
-        Strip& s = ring[size_t((x - 1 + i) & 3)];
-        if (s.px != x - 1 + i) fill_strip(s, epi, masks, x - 1 + i, y, rows);
-        window[i] = &s;
+  // The row's complex pixels (memchr), and the columns of their windows.
+  const size_t w = size_t(epi.width), words = (w + 63) / 64;
+  std::vector<int>& xs = rows.xs;
+  xs.clear();
+  for (auto* p = static_cast<const uint8_t*>(std::memchr(types, kTypeComplex, w)); p;
+       p = static_cast<const uint8_t*>(std::memchr(p + 1, kTypeComplex, w - size_t(p + 1 - types))))
+    xs.push_back(int(p - types));
+  if (xs.empty()) return;
+  std::vector<uint64_t>& needed = rows.needed;
+  needed.assign(words, 0);
+  for (const int x : xs) {
+    prefetch_window(epi, masks, x, y);
+    for (int px = std::max(x - 1, 0); px <= std::min(x + 1, epi.width - 1); ++px) needed[size_t(px) >> 6] |= 1ull << (px & 63);
+  }
+
+  // The pixel records of those columns in rows y - 1 .. y + 1, each computed once for all the
+  // rows that read it (a bitmap per cached row, no test per record: the records of a row are
+  // computed in one loop, without branches that depend on the data).
+  for (int py = std::max(y - 1, 0); py <= std::min(y + 1, epi.height - 1); ++py) {
+    const size_t slot = size_t(py & 3);
+    const uint64_t id = rows.generation << 32 | uint32_t(py);
+    if (rows.slot_row[slot] != id) std::fill(rows.done[slot].begin(), rows.done[slot].end(), 0), rows.slot_row[slot] = id;
+    uint64_t* done = rows.done[slot].data();
+    Pixel* record = rows.row[slot].data();
+    for (size_t k = 0; k < words; ++k) {
+      uint64_t todo = needed[k] & ~done[k];
+      done[k] |= needed[k];
+      for (; todo; todo &= todo - 1) {
+        const int px = int(k * 64) + __builtin_ctzll(todo);
+        compute_pixel(record[px], epi, masks, px, py);
       }
-      complex_window(window, estimate + 3 * x, out + 3 * x, geometry);
     }
+  }
+
+  // The windows, left to right; each one's estimate and output prefetched kAhead before.
+  constexpr size_t kAhead = 6;
+  Strip ring[4];
+  for (size_t k = 0; k < xs.size(); ++k) {
+    if (k + kAhead < xs.size()) {
+      __builtin_prefetch(estimate + 3 * xs[k + kAhead]), __builtin_prefetch(out + 3 * xs[k + kAhead], 1);
+    }
+    const int x = xs[k];
+    // The strips of columns x - 1 .. x + 1, column px at ring[px & 3]: kept from the windows
+    // before where they had them (windows go left to right: a ring of four never drops one
+    // still needed).
+    const Strip* window[3];
+    for (int i = 0; i < 3; ++i) {
+      Strip& s = ring[size_t((x - 1 + i) & 3)];
+      if (s.px != x - 1 + i) fill_strip(s, epi, x - 1 + i, y, rows);
+      window[i] = &s;
+    }
+    complex_window(window, estimate + 3 * x, out + 3 * x, geometry);
   }
 }
 
