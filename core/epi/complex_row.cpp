@@ -361,6 +361,7 @@ void ComplexRowKernel(const EpiRows& epi, const BoundaryMasks& masks, int y, con
   needed.assign(words, 0);
   for (const int x : xs) {
     prefetch_window(epi, masks, x, y);
+    __builtin_prefetch(estimate + 3 * x), __builtin_prefetch(out + 3 * x, 1);
     for (int px = std::max(x - 1, 0); px <= std::min(x + 1, epi.width - 1); ++px) needed[size_t(px) >> 6] |= 1ull << (px & 63);
   }
 
@@ -383,13 +384,10 @@ void ComplexRowKernel(const EpiRows& epi, const BoundaryMasks& masks, int y, con
     }
   }
 
-  // The windows, left to right; each one's estimate and output prefetched kAhead before.
-  constexpr size_t kAhead = 6;
+  // The windows, left to right (their estimates and outputs prefetched with the lines above:
+  // with few edges, most rows have fewer complex pixels than any distance ahead).
   Strip ring[4];
   for (size_t k = 0; k < xs.size(); ++k) {
-    if (k + kAhead < xs.size()) {
-      __builtin_prefetch(estimate + 3 * xs[k + kAhead]), __builtin_prefetch(out + 3 * xs[k + kAhead], 1);
-    }
     const int x = xs[k];
     // The strips of columns x - 1 .. x + 1, column px at ring[px & 3]: kept from the windows
     // before where they had them (windows go left to right: a ring of four never drops one
