@@ -25,14 +25,14 @@ namespace {
 
 using namespace complex_detail;
 
-// Eight lanes of 64-bit set halves where the target has 32-byte vectors or wider.
+// 1: a window's eight region sets in lanes (complex_window below), on targets with 32-byte
+// vectors or wider (AVX2, AVX3); 0: the sets one by one (SSE4, SSSE3, scalar).
 #undef EPI_COMPLEX_LANES
 #if HWY_ARCH_X86 && HWY_TARGET <= HWY_AVX2
 #define EPI_COMPLEX_LANES 1
 #else
 #define EPI_COMPLEX_LANES 0
 #endif
-
 
 // One pixel column of a window (pixels (px, y - 1 .. y + 1)): its 2x6 sub-pixels and 3 samples,
 // computed once per row and shared by the windows of up to three complex pixels.
@@ -51,10 +51,10 @@ struct Strip {
   } sample[3];
 };
 
-
-
 using Pixel = ComplexRowCache::Pixel;
 
+// The record of pixel (px, py) (ComplexRowCache::Pixel): its four sub-pixels by the 512-entry
+// table, their probe bits spread into its two columns, its sample's region and colour.
 [[gnu::always_inline]] inline void compute_pixel(Pixel& p, const EpiRows& epi, const BoundaryMasks& masks, int px, int py) {
   const std::array<SubCell, 512>& cells = sub_cells();
   const size_t i = masks.index(px, py);
