@@ -2,28 +2,29 @@
 """Compare two sets of Google Benchmark JSON runs (e.g. a base and a changed binary, run
 alternately on a loaded machine): the best (minimum) real time per benchmark in each set and
 their ratio, as a Markdown table. `--time cpu` compares CPU times instead (the benchmark
-thread's: on a loaded machine the fairer figure for one-thread runs); `--counter NAME` compares
-a user counter instead (e.g. render_points_bench's project_ms), the best (least) per benchmark.
+thread's: on a loaded machine the fairer figure for one-thread runs). `--counter NAME` compares
+a user counter instead (e.g. `complex_cpu_ms`, one stage of BM_Filters), its minimum likewise;
+`--label` adds each benchmark's label (BM_Filters': the kernel, edges and threads).
 
-  tools/bench_compare.py --base base-*.json --new new-*.json [--time cpu | --counter NAME]
+  tools/bench_compare.py --base base-*.json --new new-*.json [--time cpu] [--counter NAME] [--label]
 """
 import argparse
 import json
 
 
-def best_times(files, field):
-    best, unit = {}, ""
+def best_times(files, field, labels=None):
+    best, unit = {}, "ns"
     for name in files:
         with open(name) as f:
             for b in json.load(f)["benchmarks"]:
-                if b.get("run_type") == "aggregate":
+                if b.get("run_type") == "aggregate" or field not in b:
                     continue
                 key = b["run_name"] if "run_name" in b else b["name"]
-                if field not in b:
-                    continue
                 t = b[field]
                 best[key] = min(best.get(key, t), t)
-                unit = b.get("time_unit", "ns") if field.endswith("_time") else field
+                unit = b.get("time_unit", "ns")
+                if labels is not None:
+                    labels[key] = b.get("label", "")
     return best, unit
 
 
@@ -32,17 +33,23 @@ def main():
     parser.add_argument("--base", nargs="+", required=True)
     parser.add_argument("--new", nargs="+", required=True)
     parser.add_argument("--time", choices=["real", "cpu"], default="real")
-    parser.add_argument("--counter", help="a user counter to compare instead of a time")
+    parser.add_argument("--counter", help="compare this user counter instead of a time")
+    parser.add_argument("--label", action="store_true", help="a column with each benchmark's label")
     args = parser.parse_args()
     field = args.counter or args.time + "_time"
-    base, unit = best_times(args.base, field)
+    labels = {}
+    base, unit = best_times(args.base, field, labels)
     new, _ = best_times(args.new, field)
-    what = unit if args.counter else f"{args.time}, {unit}"
-    print(f"| benchmark | base ({what}) | new ({what}) | new / base |")
-    print("|---|---|---|---|")
+    what = args.counter or f"{args.time}, {unit}"
+    label_head, label_rule = (" label |", "---|") if args.label else ("", "")
+    print(f"| benchmark |{label_head} base ({what}) | new ({what}) | new / base | base / new |")
+    print(f"|---|{label_rule}---|---|---|---|")
     for key in base:
         if key in new:
-            print(f"| {key} | {base[key]:.3f} | {new[key]:.3f} | {new[key] / base[key]:.3f} |")
+            label = f" {labels.get(key, '')} |" if args.label else ""
+            ratio = f"{new[key] / base[key]:.3f}" if base[key] else "-"
+            speedup = f"{base[key] / new[key]:.2f}x" if new[key] else "-"
+            print(f"| {key} |{label} {base[key]:.3f} | {new[key]:.3f} | {ratio} | {speedup} |")
 
 
 if __name__ == "__main__":

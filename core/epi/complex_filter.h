@@ -8,6 +8,7 @@
 // their two regions by area; complex sub-pixels and regions with no sample use the estimate.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -36,7 +37,7 @@ class ComplexRowCache {
 
  private:
   friend void complex_row(const EpiRows&, const BoundaryMasks&, int, const uint8_t*, const float*, float*,
-                          ComplexRowCache&);
+                          ComplexRowCache&, int64_t);
   std::unique_ptr<Rows> rows_;
 };
 
@@ -44,8 +45,13 @@ class ComplexRowCache {
 // kTypeComplex), bit for bit, from the row's estimates (3 floats per pixel) into out; other
 // pixels untouched. Each pixel's sub-pixels and sample are computed once for all the windows
 // that hold it (through `cache`), joins come from bitboards (docs/epi.md, "Complex pixels").
+// `target`: the Highway target (a HWY_* bit of complex_row_targets()) whose compilation runs, 0
+// the best one here; the schedules pass their reconstructor's (simd::RowKernels::target). Every
+// target's result is the same, bit for bit.
 void complex_row(const EpiRows& epi, const BoundaryMasks& masks, int y, const uint8_t* types, const float* estimate,
-                 float* out, ComplexRowCache& cache);
+                 float* out, ComplexRowCache& cache, int64_t target = 0);
+// The targets complex_row is compiled for and this CPU runs, best first.
+std::vector<int64_t> complex_row_targets();
 
 // The class of a sub-pixel (n = 4) by its side masks, index top | right << 4 | bottom << 8 |
 // left << 12, as complex_pixel and complex_row take it: kind in bits 0-1, p_low in 2-5, p_high in

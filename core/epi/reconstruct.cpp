@@ -349,7 +349,7 @@ void complex_stage(RowJob& j, int y) {
   const float* filled = j.filled.row(y);
   float* out = j.image.row(y);
   static_assert(output_filter({}, true, kTypeComplex) == OutputFilter::complex_filter);
-  if (j.kernels) return complex_row(epi, j.masks, y, types, filled, out, *j.complex_cache);
+  if (j.kernels) return complex_row(epi, j.masks, y, types, filled, out, *j.complex_cache, j.kernels->target);
   // Complex pixels are few (0.3-3 %): found by memchr, not by a test per pixel.
   const size_t w = size_t(j.width);
   for (auto* p = static_cast<const uint8_t*>(std::memchr(types, kTypeComplex, w)); p;

@@ -8,6 +8,7 @@
 
 #include <cstring>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -177,8 +178,9 @@ TEST(ComplexRow, SubPixelClassEqualsClassifyCellEverywhere) {
 // complex_row against complex_pixel, bit for bit: once over the real types (only complex pixels
 // written, the others untouched), once with every pixel marked complex (every window position,
 // image borders included); random estimates. Returns the complex count.
-int expect_row_equal(const test::Built& b, uint64_t seed, const std::string& what, ComplexRowCache& cache) {
-  SCOPED_TRACE(what);
+int expect_row_equal(const test::Built& b, uint64_t seed, const std::string& what, ComplexRowCache& cache,
+                     int64_t target) {
+  SCOPED_TRACE(what + ", target " + std::to_string(target));
   const Reconstruction r = reconstruct_oracle(b.epi, b.masks, {});
   const int w = b.epi.width, h = b.epi.height;
   std::vector<uint8_t> types(r.cache.size());
@@ -195,7 +197,7 @@ int expect_row_equal(const test::Built& b, uint64_t seed, const std::string& wha
       for (float& e : estimate) e = unit(rng);
       const uint8_t* row_types = every ? all_complex.data() : &types[size_t(y) * size_t(w)];
       std::vector<float> fast(3 * size_t(w), -1.0f), ref = fast;
-      complex_row(rows, b.masks, y, row_types, estimate.data(), fast.data(), cache);
+      complex_row(rows, b.masks, y, row_types, estimate.data(), fast.data(), cache, target);
       for (int x = 0; x < w; ++x)
         if (row_types[x] == kTypeComplex) complex_pixel(rows, b.masks, x, y, &estimate[3 * size_t(x)], &ref[3 * size_t(x)]);
       for (int x = 0; x < w; ++x) {
@@ -210,38 +212,58 @@ int expect_row_equal(const test::Built& b, uint64_t seed, const std::string& wha
   return complex;
 }
 
+// Every compiled target this CPU runs (complex_row is compiled once per Highway target; the
+// lane-parallel window of AVX2 and AVX3 is other code than the SSE and scalar targets' one).
 TEST(ComplexRow, EqualsComplexPixelOnRandomPatterns) {
-  std::mt19937_64 rng(77);
-  ComplexRowCache cache;  // one for all: reset() between images (sizes vary) must be enough
-  int complex = 0;
-  for (int trial = 0; trial < 40; ++trial) {
-    const int w = 1 + int(rng() % 70), h = 1 + int(rng() % 30);
-    const uint64_t seed = rng();
-    const double density = double(rng() % 101) / 100.0;
-    complex += expect_row_equal(test::build(test::random_pattern(w, h, 3 + int(rng() % 60), seed), density, seed), seed,
-                                "trial " + std::to_string(trial) + ", " + std::to_string(w) + "x" + std::to_string(h), cache);
+  ASSERT_FALSE(complex_row_targets().empty());
+  for (int64_t target : complex_row_targets()) {
+    std::mt19937_64 rng(77);
+    ComplexRowCache cache;  // one for all: reset() between images (sizes vary) must be enough
+    int complex = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+      const int w = 1 + int(rng() % 70), h = 1 + int(rng() % 30);
+      const uint64_t seed = rng();
+      const double density = double(rng() % 101) / 100.0;
+      complex += expect_row_equal(test::build(test::random_pattern(w, h, 3 + int(rng() % 60), seed), density, seed), seed,
+                                  "trial " + std::to_string(trial) + ", " + std::to_string(w) + "x" + std::to_string(h),
+                                  cache, target);
+    }
+    EXPECT_GT(complex, 300);
   }
-  EXPECT_GT(complex, 300);
 }
 
 TEST(ComplexRow, EqualsComplexPixelOnExtremes) {
-  // Nearly every pixel complex, also cut to one row, one column and one pixel.
-  ComplexRowCache cache;
-  for (auto [w, h] : {std::pair{19, 11}, {33, 1}, {1, 17}, {1, 1}, {2, 2}, {64, 3}, {65, 2}})
-    for (double d : {0.0, 0.3, 1.0}) {
-      const int complex = expect_row_equal(test::build(test::fine_checker(w, h), d, 5), 9,
-                                           "checker " + std::to_string(w) + "x" + std::to_string(h), cache);
-      if (w * h > 100) {
-        EXPECT_GT(complex, w * h / 2);
+  for (int64_t target : complex_row_targets()) {
+    // Nearly every pixel complex, also cut to one row, one column and one pixel.
+    ComplexRowCache cache;
+    for (auto [w, h] : {std::pair{19, 11}, {33, 1}, {1, 17}, {1, 1}, {2, 2}, {64, 3}, {65, 2}})
+      for (double d : {0.0, 0.3, 1.0}) {
+        const int complex = expect_row_equal(test::build(test::fine_checker(w, h), d, 5), 9,
+                                             "checker " + std::to_string(w) + "x" + std::to_string(h), cache, target);
+        if (w * h > 100) {
+          EXPECT_GT(complex, w * h / 2);
+        }
       }
-    }
-  Pattern q;  // edges along pixel borders and centre lines
-  q.width = 21, q.height = 13;
-  q.background = {0.2f, 0.2f, 0.2f};
-  q.polygons.push_back({{1, 1, 0}, {{3, 2}, {9, 2}, {9, 8}, {3, 8}}});
-  q.polygons.push_back({{0, 1, 1}, {{12.5, 0}, {20, 7.5}, {12.5, 7.5}}});
-  q.polygons.push_back({{1, 0, 1}, {{0, 10}, {21, 10.5}, {21, 11}, {0, 11}}});
-  for (double d : {0.2, 1.0}) expect_row_equal(test::build(q, d, 6), 10, "borders", cache);
+    Pattern q;  // edges along pixel borders and centre lines
+    q.width = 21, q.height = 13;
+    q.background = {0.2f, 0.2f, 0.2f};
+    q.polygons.push_back({{1, 1, 0}, {{3, 2}, {9, 2}, {9, 8}, {3, 8}}});
+    q.polygons.push_back({{0, 1, 1}, {{12.5, 0}, {20, 7.5}, {12.5, 7.5}}});
+    q.polygons.push_back({{1, 0, 1}, {{0, 10}, {21, 10.5}, {21, 11}, {0, 11}}});
+    for (double d : {0.2, 1.0}) expect_row_equal(test::build(q, d, 6), 10, "borders", cache, target);
+  }
+}
+
+// A target that is not compiled or not supported is refused, never run.
+TEST(ComplexRow, RefusesUnknownTargets) {
+  const test::Built b = test::build(test::fine_checker(4, 4), 0.5, 1);
+  ComplexRowCache cache;
+  std::vector<float> estimate(12, 0.5f), out(12);
+  const std::vector<uint8_t> types(16, uint8_t{kTypeComplex});
+  const std::vector<uint16_t> edge(16, 0);
+  const EpiRows rows{edge.data(), types.data(), b.epi.color.data(), 4, 4};
+  EXPECT_THROW(complex_row(rows, b.masks, 1, types.data(), estimate.data(), out.data(), cache, int64_t{3}),
+               std::invalid_argument);
 }
 
 }  // namespace
