@@ -202,9 +202,8 @@ int run_render_frames(const RenderOptions& options) {
   stage = Clock::now();
   outputs.add_image(options.output, *image, options.exposure);
   if (!options.save_epi.empty()) {
-    ReconstructSettings reconstruct;
-    reconstruct.antialias = settings.antialias, reconstruct.complex_filter = settings.complex_filter;
-    outputs.add_text(options.save_epi, snapshot_bytes({renderer->epi(), renderer->masks(), renderer->segments(), reconstruct}));
+    outputs.add_text(options.save_epi, snapshot_bytes({renderer->epi(), renderer->masks(), renderer->segments(),
+                                                        renderer->reconstruct_settings()}));
   }
   const double write_ms = ms_since(stage) + write_frames_ms;
   const double total_ms = ms_since(start);

@@ -377,14 +377,7 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   stats_.ms[FrameStage::points] += ms_since(t);
 
   // Reconstruction.
-  ReconstructSettings rs;
-  rs.filter = settings_.mode == RenderMode::epi ? Filter::epi : Filter::rendercache;
-  rs.antialias = settings_.antialias;
-  rs.complex_filter = settings_.complex_filter;
-  // Edge-free pixels that reach no sample are left black where the hole fill below fills them
-  // from their own region: the reconstruction's blend across a nearby edge painted the near
-  // side's colour into the background a disocclusion uncovered (docs/render.md, "Holes").
-  rs.blend_unreached_near_edges = !settings_.fill_holes;
+  const ReconstructSettings rs = reconstruct_settings();
   ReconstructTimes rt;
   if (settings_.stage_timings) {
     Schedule schedule;
@@ -445,6 +438,18 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   ++frame_;
   stats_.ms.total = ms_since(start);
   return reconstruction_.image;
+}
+
+ReconstructSettings FrameRenderer::reconstruct_settings() const {
+  ReconstructSettings rs;
+  rs.filter = settings_.mode == RenderMode::epi ? Filter::epi : Filter::rendercache;
+  rs.antialias = settings_.antialias;
+  rs.complex_filter = settings_.complex_filter;
+  // Edge-free pixels that reach no sample are left black where the hole fill fills them from
+  // their own region: the reconstruction's blend across a nearby edge painted the near side's
+  // colour into the background a disocclusion uncovered (docs/render.md, "Holes").
+  rs.blend_unreached_near_edges = !settings_.fill_holes;
+  return rs;
 }
 
 }  // namespace epi::render

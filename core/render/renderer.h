@@ -110,6 +110,8 @@ class FrameRenderer {
   const std::vector<float>& priority() const { return reconstruction_.priority; }
   const EpiImage& epi() const { return epi_; }  // this frame's EPI, classified (types, reachability)
   const FrameSettings& settings() const { return settings_; }
+  // The settings this renderer reconstructs its EPI with (what an EPI snapshot must carry).
+  ReconstructSettings reconstruct_settings() const;
   const std::vector<Segment>& segments() const { return segments_; }  // this frame's visible edge pieces
   const BoundaryMasks& masks() const { return masks_; }       // and its boundary masks (EPI snapshots)
   const std::vector<edges::EdgeKind>& segment_kinds() const { return segment_kinds_; }  // one per piece

@@ -13,7 +13,8 @@ namespace epi {
 namespace {
 
 constexpr char kMagic[8] = {'E', 'P', 'I', 'S', 'N', 'A', 'P', '1'};
-enum Flag : uint32_t { kCentreLines = 1, kAntialias = 2, kComplexFilter = 4, kFill = 8, kKnownFlags = 15 };
+// kUnreachedStayBlack: ReconstructSettings::blend_unreached_near_edges off (older files: on).
+enum Flag : uint32_t { kCentreLines = 1, kAntialias = 2, kComplexFilter = 4, kFill = 8, kUnreachedStayBlack = 16, kKnownFlags = 31 };
 
 static_assert(std::endian::native == std::endian::little, "snapshots are written little-endian");
 
@@ -73,7 +74,8 @@ std::string snapshot_bytes(const Snapshot& s) {
   put(out, uint32_t(w));
   put(out, uint32_t(h));
   const uint32_t flags = (s.masks.centre_lines ? uint32_t(kCentreLines) : 0u) | (s.settings.antialias ? uint32_t(kAntialias) : 0u) |
-                         (s.settings.complex_filter ? uint32_t(kComplexFilter) : 0u) | (s.settings.fill ? uint32_t(kFill) : 0u);
+                         (s.settings.complex_filter ? uint32_t(kComplexFilter) : 0u) | (s.settings.fill ? uint32_t(kFill) : 0u) |
+                         (s.settings.blend_unreached_near_edges ? 0u : uint32_t(kUnreachedStayBlack));
   put(out, flags);
   put_all(out, s.epi.edge);
   put_all(out, s.epi.color);
@@ -127,6 +129,7 @@ Snapshot load_snapshot(const std::string& file) {
   s.settings.antialias = flags & kAntialias;
   s.settings.complex_filter = flags & kComplexFilter;
   s.settings.fill = flags & kFill;
+  s.settings.blend_unreached_near_edges = !(flags & kUnreachedStayBlack);
   const size_t pixels = size_t(w) * h, cells = size_t(w + 1) * (h + 1);
   r.get_all(s.epi.edge, pixels, "edge plane");
   r.get_all(s.epi.color, pixels, "colour plane");

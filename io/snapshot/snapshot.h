@@ -2,7 +2,8 @@
 // the visualizer can step through the stages on real data. `epi render --save-epi FILE` writes
 // it. Little-endian binary, layout in docs/visualizer.md ("Snapshots"):
 //   magic "EPISNAP1", width, height (uint32), flags (uint32: bit 0 centre lines, bit 1
-//   anti-aliasing, bit 2 complex filter, bit 3 fill), the edge plane (uint16 per pixel), the
+//   anti-aliasing, bit 2 complex filter, bit 3 fill, bit 4 unreached pixels beside edges stay
+//   black, i.e. ReconstructSettings::blend_unreached_near_edges off), the edge plane (uint16 per pixel), the
 //   colour plane (uint32), the masks top, left ((W+1) x (H+1) bytes each) and, with centre
 //   lines, centre_h, centre_v (same size), the segment count (uint64) and the segments
 //   (4 float64 each: x0 y0 x1 y1, pixel units), nothing after.
@@ -23,7 +24,7 @@ struct Snapshot {
   EpiImage epi;                   // edge and colour planes (classified or not)
   BoundaryMasks masks;
   std::vector<Segment> segments;  // the edges that were rasterized (for drawing)
-  ReconstructSettings settings;   // filter is always Filter::epi
+  ReconstructSettings settings;   // filter is always Filter::epi (FrameRenderer::reconstruct_settings)
 };
 
 // what(): "<file>: <problem>", one line.

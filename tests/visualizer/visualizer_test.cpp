@@ -19,6 +19,8 @@
 #include "export.h"
 #include "model.h"
 #include "presets.h"
+#include "epi/interpolate.h"
+#include "render/hole_fill.h"
 #include "render/renderer.h"
 #include "snapshot.h"
 #include "steps.h"
@@ -227,6 +229,52 @@ TEST(Snapshot, RenderedFrameRoundTripGivesTheFrameExactly) {
   EXPECT_FALSE(model.source().pattern.has_value());
   const PixelTrace t = model.tracer().trace(32, 24);
   EXPECT_EQ(build_steps(model, t).back().stage, kStageCount);
+}
+
+// With the frame loop's hole fill on (the default), the renderer reconstructs with
+// blend_unreached_near_edges off; its snapshot must say so, or the visualizer shows blends the
+// frame never had. The snapshot's reconstruction, hole-filled as the renderer does, is the frame.
+TEST(Snapshot, RenderedFrameWithHoleFillCarriesTheRenderersReconstructSettings) {
+  const Scene scene = test::plane_and_box();
+  RayScene ray_scene(scene);
+  const Shader shader(ray_scene, ShaderSettings{});
+  render::FrameSettings settings;
+  settings.mode = render::RenderMode::epi, settings.width = 64, settings.height = 48, settings.sample_budget = 0.02;
+  settings.sync = true, settings.seed = 3;
+  ASSERT_TRUE(settings.fill_holes);
+  render::FrameRenderer renderer(scene, ray_scene, shader, settings);
+  const RgbImage* frame = nullptr;
+  for (int k = 0; k < 2; ++k) frame = &renderer.render(scene.cameras[0]);
+  const fs::path file = temp_dir("holes") += ".epis";
+  save_snapshot({renderer.epi(), renderer.masks(), renderer.segments(), renderer.reconstruct_settings()}, file.string());
+  const Snapshot back = load_snapshot(file.string());
+  EXPECT_FALSE(back.settings.blend_unreached_near_edges);
+  EpiImage epi = back.epi;
+  Reconstruction r = reconstruct_oracle(epi, back.masks, back.settings);
+  EXPECT_EQ(r.priority, renderer.priority());
+  // The hole fill as the renderer applies it (core/render/renderer.cpp).
+  const size_t n = r.priority.size();
+  std::vector<uint8_t> holes(n), barrier(n);
+  for (size_t i = 0; i < n; ++i) {
+    const float* c = &r.image.pixels[3 * i];
+    holes[i] = r.priority[i] >= kMaxPriority && c[0] == 0.0f && c[1] == 0.0f && c[2] == 0.0f;
+    barrier[i] = (renderer.edge_pixels()[i] & (render::kDepthEdge | render::kSharpEdge)) != 0;
+  }
+  const RgbImage unfilled = r.image;
+  render::fill_holes(r.image, holes, barrier);
+  EXPECT_EQ(r.image.pixels, frame->pixels);
+  // The setting matters in this frame: with the blend on, some unreached pixel beside an edge
+  // takes a colour the frame does not show.
+  ReconstructSettings blend = back.settings;
+  blend.blend_unreached_near_edges = true;
+  epi = back.epi;
+  const Reconstruction b = reconstruct_oracle(epi, back.masks, blend);
+  EXPECT_NE(b.image.pixels, unfilled.pixels);
+  // An older file (bit 4 clear) keeps the blend on.
+  Snapshot old = back;
+  old.settings.blend_unreached_near_edges = true;
+  save_snapshot(old, file.string());
+  EXPECT_TRUE(load_snapshot(file.string()).settings.blend_unreached_near_edges);
 }
 
 TEST(Snapshot, BadFilesGetOneClearLine) {
