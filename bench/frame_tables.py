@@ -137,23 +137,30 @@ def chart(best_frame, path):
     import matplotlib.pyplot as plt
 
     stages = frame_stages()
-    keys = sorted(best_frame, key=lambda k: (k[0], k[1] * k[2], k[3]))
-    labels = [f"{SCENES[k[0]] if k[0] < len(SCENES) else k[0]}\n{SIZE_NAMES.get((k[1], k[2]), f'{k[1]}x{k[2]}')} "
-              f"{MODE_NAMES.get(k[3], k[3])}" for k in keys]
-    # Milliseconds per megapixel: the sizes share one axis, and a bar that grows with the size
-    # shows a stage that grows faster than the pixel count.
-    fig, ax = plt.subplots(figsize=(max(6.0, 1.1 * len(keys) + 2.5), 5.0))
-    bottom = [0.0] * len(keys)
+    # One panel per mode (staged, render cache, tiled), its bars scene by scene and size by size.
+    modes = sorted({k[3] for k in best_frame})
+    per_mode = {m: sorted((k for k in best_frame if k[3] == m), key=lambda k: (k[0], k[1] * k[2])) for m in modes}
+    width = max(len(v) for v in per_mode.values())
+    fig, axes = plt.subplots(len(modes), 1, figsize=(max(6.0, 0.8 * width + 2.5), 3.2 * len(modes) + 0.6),
+                             sharey=True, squeeze=False)
     colours = plt.get_cmap("tab10")
-    for s, (name, label) in enumerate(stages):
-        values = [best_frame[k].get(f"{name}_ms", 0.0) / (k[1] * k[2] / 1e6) for k in keys]
-        ax.bar(range(len(keys)), values, bottom=bottom, label=label, color=colours(s % 10))
-        bottom = [b + v for b, v in zip(bottom, values)]
-    ax.set_xticks(range(len(keys)))
-    ax.set_xticklabels(labels, fontsize=7)
-    ax.set_ylabel("ms per megapixel (frame without shading)")
-    ax.set_title("epi frame loop: time per stage (render_bench, bench/frame_tables.py)")
-    ax.legend(fontsize=7, ncol=1, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    for ax, m in zip(axes[:, 0], modes):
+        keys = per_mode[m]
+        labels = [f"{SCENES[k[0]] if k[0] < len(SCENES) else k[0]}\n{SIZE_NAMES.get((k[1], k[2]), f'{k[1]}x{k[2]}')}"
+                  for k in keys]
+        # Milliseconds per megapixel: the sizes share one axis, and a bar that grows with the size
+        # shows a stage that grows faster than the pixel count.
+        bottom = [0.0] * len(keys)
+        for s, (name, label) in enumerate(stages):
+            values = [best_frame[k].get(f"{name}_ms", 0.0) / (k[1] * k[2] / 1e6) for k in keys]
+            ax.bar(range(len(keys)), values, bottom=bottom, label=label, color=colours(s % 10))
+            bottom = [b + v for b, v in zip(bottom, values)]
+        ax.set_xticks(range(len(keys)))
+        ax.set_xticklabels(labels, fontsize=7)
+        ax.set_ylabel("ms per megapixel")
+        ax.set_title(f"{MODE_NAMES.get(m, m)}", fontsize=9)
+    axes[0, 0].legend(fontsize=7, ncol=1, loc="upper left", bbox_to_anchor=(1.0, 1.0))
+    fig.suptitle("epi frame loop: time per stage, frame without shading (render_bench, bench/frame_tables.py)", fontsize=10)
     fig.tight_layout()
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     fig.savefig(path, dpi=110)
