@@ -263,6 +263,42 @@ void BM_Reconstruct(benchmark::State& state) {
                               std::to_string(threads) + "T");
 }
 
+// What the row fallback saves (Schedule::row_fallback): the tiled stream, best target, one
+// thread, after fast motion: only `per mille` of the pixels sampled, so many pixels reach no
+// sample in their 5x5 and take the fallback. args: width, height, sampled per mille, polygons
+// per megapixel (385 is BM_Filters' "few"; the bundled scenes at 1080p show 20-7000 edges),
+// row fallback (0 pixel by pixel, 1 by rows). Counter fallback_pct: the pixels that took it.
+void BM_Fallback(benchmark::State& state) {
+  const int w = int(state.range(0)), h = int(state.range(1));
+  static std::map<std::tuple<int, int, int>, std::unique_ptr<Frame>> frames;
+  auto& f = frames[{w, h, int(state.range(2) * 100000 + state.range(3))}];
+  if (!f) {
+    f = std::make_unique<Frame>();
+    f->pattern = random_pattern(w, h, int(int64_t(w) * h * state.range(3) / 1000000));
+    f->edges = pattern_edges(f->pattern);
+    f->masks = BoundaryMasks(w, h, true);
+    rasterize_edges(f->masks, f->edges);
+    f->epi = EpiImage(w, h);
+    sample_pattern(f->pattern, double(state.range(2)) / 1000.0, 7, f->epi);
+    f->oracle = reconstruct_oracle(f->epi, f->masks, {});
+  }
+  Reconstructor reconstructor;
+  Schedule schedule;
+  schedule.threads = 1, schedule.row_fallback = state.range(4) != 0;
+  Reconstruction r;
+  reconstructor.tiled(f->epi, f->masks, {}, schedule, r);
+  if (!same_result(r, f->oracle)) return state.SkipWithError("the result differs from the oracle");
+  for (auto _ : state) {
+    reconstructor.tiled(f->epi, f->masks, {}, schedule, r);
+    benchmark::DoNotOptimize(r.image.pixels.data());
+  }
+  const auto unreached = std::count(r.priority.begin(), r.priority.end(), kMaxPriority);
+  state.counters["fallback_pct"] = 100.0 * double(unreached) / double(r.priority.size());
+  std::string label = reconstructor.kernel_name();
+  label += state.range(4) ? " by rows" : " per pixel";
+  state.SetLabel(label);
+}
+
 // What reachability reused across rows saves: the reachability stage of the staged schedule
 // (chunks of 8 rows) with the best target, one thread, few edges; arg 2: 0 nothing reused (the
 // five relation rows of the window computed for every row, all 24 offsets), 1 the relation
@@ -411,6 +447,9 @@ void register_benchmarks() {
       for (int k = 0; k <= int(simd::compiled_targets().size()); ++k) b->Args({w, h, k});
     b->Unit(benchmark::kMillisecond)->UseManualTime();
   });
+  benchmark::RegisterBenchmark("BM_Fallback", BM_Fallback)
+      ->ArgsProduct({{1920}, {1080}, {10, 30, 100}, {40, 385}, {0, 1}})
+      ->Unit(benchmark::kMillisecond);
   auto* reuse = benchmark::RegisterBenchmark("BM_ReachReuse", BM_ReachReuse);
   for (auto [w, h] : {std::pair{1920, 1080}, {3840, 2160}})
     for (int level : {0, 1, 2}) reuse->Args({w, h, level});

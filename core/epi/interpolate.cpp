@@ -1,6 +1,8 @@
 #include "epi/interpolate.h"
 
 #include <algorithm>
+#include <array>
+#include <cstring>
 
 #include "epi/geometry.h"
 #include "epi/reachability.h"
@@ -82,14 +84,30 @@ bool window_holds_edges(TypeRows types, int x, int y, int r) {
   return any != kTypeEmpty;
 }
 
-bool reachable_fallback(const EpiRows& rows, int x, int y, float rgb[3]) {
-  const uint64_t reach = reach_window7(rows.type_rows(), x, y);
+// The fallback's kernel over the 7x7, w(dx, dy) = 1 / (1 + dx^2 + dy^2)^2, at window7_bit.
+const std::array<float, 49>& window7_weights() {
+  static const std::array<float, 49> weights = [] {
+    std::array<float, 49> w{};
+    for (int dy = -3; dy <= 3; ++dy)
+      for (int dx = -3; dx <= 3; ++dx) {
+        const float d = float(1 + dx * dx + dy * dy);
+        w[size_t(window7_bit(dx, dy))] = 1.0f / (d * d);
+      }
+    return w;
+  }();
+  return weights;
+}
+
+// The kernel-weighted mean of the usable samples of the 7x7 that `reach` marks (window7_bit),
+// into rgb; false when there is none.
+bool reachable_mean(const EpiRows& rows, int x, int y, uint64_t reach, float rgb[3]) {
   const auto& lut = epi_color8_to_linear();
+  const auto& weights = window7_weights();
   float sum[3] = {0, 0, 0}, total = 0;
   for (int dy = std::max(-3, -y); dy <= std::min(3, rows.height - 1 - y); ++dy)
     for (int dx = std::max(-3, -x); dx <= std::min(3, rows.width - 1 - x); ++dx) {
       if (!((reach >> window7_bit(dx, dy)) & 1) || !usable_sample(rows.edge_at(x + dx, y + dy))) continue;
-      const float d = float(1 + dx * dx + dy * dy), w = 1.0f / (d * d);
+      const float w = weights[size_t(window7_bit(dx, dy))];
       const uint32_t c = rows.color_at(x + dx, y + dy);
       sum[0] += w * lut[c & 255], sum[1] += w * lut[(c >> 8) & 255], sum[2] += w * lut[(c >> 16) & 255];
       total += w;
@@ -97,6 +115,30 @@ bool reachable_fallback(const EpiRows& rows, int x, int y, float rgb[3]) {
   if (total == 0) return false;
   for (int k = 0; k < 3; ++k) rgb[k] = sum[k] / total;
   return true;
+}
+
+// fallback_color for pixel (x, y) whose 7x7 lies inside the image, holds a sample and no edge
+// (so reaches all of itself: reach_window7's fast path): the weighted mean of the window's usable
+// samples, or black (none usable; the last resort needs an edge). In fallback_color's order,
+// with fixed bounds and no branch per sample (usable and unusable samples alternate at random
+// after motion): a sample left out adds exactly +0 (the colours are finite and not negative, the
+// sums start at +0). (Eight pixels' sums interleaved, to overlap their chains of dependent
+// additions, measured 1.05-1.12x slower: BM_Fallback, docs/performance.md.)
+void whole_window_mean(const EpiRows& rows, int x, int y, float rgb[3]) {
+  const auto& lut = epi_color8_to_linear();
+  const auto& weights = window7_weights();
+  float sum[3] = {0, 0, 0}, total = 0;
+  for (int dy = -3; dy <= 3; ++dy) {
+    const uint16_t* edge = rows.edge_row(y + dy) + x;
+    const uint32_t* colour = rows.color_row(y + dy) + x;
+    for (int dx = -3; dx <= 3; ++dx) {
+      const float w = usable_sample(edge[dx]) ? weights[size_t(window7_bit(dx, dy))] : 0.0f;
+      const uint32_t c = colour[dx];
+      sum[0] += w * lut[c & 255], sum[1] += w * lut[(c >> 8) & 255], sum[2] += w * lut[(c >> 16) & 255];
+      total += w;
+    }
+  }
+  for (int k = 0; k < 3; ++k) rgb[k] = total > 0 ? sum[k] / total : 0.0f;
 }
 
 // Whether a pixel of the (2r+1)^2 window (clipped to the image) holds a sample.
@@ -111,14 +153,11 @@ bool window_holds_samples(const EpiRows& rows, int x, int y, int r) {
 
 }  // namespace
 
-void fallback_color(const EpiRows& rows, int x, int y, float rgb[3], bool blend_near_edges) {
-  // Inside a hole (no sample in the 7x7: a usable one has a sample, and every step below reads
-  // at most the 7x7) the answer is black, found without the 7x7 reachability.
-  if (!window_holds_samples(rows, x, y, 3)) {
-    rgb[0] = rgb[1] = rgb[2] = 0.0f;
-    return;
-  }
-  if (reachable_fallback(rows, x, y, rgb)) return;
+namespace {
+
+// fallback_color for a pixel whose 7x7 holds a sample, reaching the samples `reach` marks.
+void fallback_reaching(const EpiRows& rows, int x, int y, uint64_t reach, float rgb[3], bool blend_near_edges) {
+  if (reachable_mean(rows, x, y, reach, rgb)) return;
   // Last resort. Only where the pixel's own 5x5 holds an edge (so it is at an edge, and its
   // colour unknown either way; without blend_near_edges only where an edge crosses the pixel
   // itself) may colour come from unreachable samples; elsewhere black.
@@ -127,6 +166,55 @@ void fallback_color(const EpiRows& rows, int x, int y, float rgb[3], bool blend_
     if (window_average(rows, x, y, 3, rgb) > 0) return;
   }
   rgb[0] = rgb[1] = rgb[2] = 0.0f;
+}
+
+}  // namespace
+
+void fallback_color(const EpiRows& rows, int x, int y, float rgb[3], bool blend_near_edges) {
+  // Inside a hole (no sample in the 7x7: a usable one has a sample, and every step below reads
+  // at most the 7x7) the answer is black, found without the 7x7 reachability.
+  if (!window_holds_samples(rows, x, y, 3)) {
+    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    return;
+  }
+  fallback_reaching(rows, x, y, reach_window7(rows.type_rows(), x, y), rgb, blend_near_edges);
+}
+
+void fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, bool blend_near_edges,
+                  FallbackScratch& scratch) {
+  const int w = rows.width, h = rows.height;
+  const auto* first = static_cast<const uint8_t*>(std::memchr(found, 0, size_t(w)));
+  if (!first) return;
+  const int x_first = int(first - found);
+  int x_last = w - 1;
+  while (found[x_last]) --x_last;
+  // Column ORs over the rows of the 7x7 windows, for the columns those pixels' windows cover.
+  const int xa = std::max(0, x_first - 3), xb = std::min(w, x_last + 4);
+  scratch.edge_or.resize(size_t(w)), scratch.type_or.resize(size_t(w));
+  uint16_t* const edge_or = scratch.edge_or.data();
+  uint8_t* const type_or = scratch.type_or.data();
+  std::fill(edge_or + xa, edge_or + xb, uint16_t(0));
+  std::fill(type_or + xa, type_or + xb, uint8_t(0));
+  const TypeRows types = rows.type_rows();
+  for (int py = std::max(0, y - 3); py <= std::min(h - 1, y + 3); ++py) {
+    const uint16_t* e = rows.edge_row(py);
+    const uint8_t* t = types.row(py);
+    for (int x = xa; x < xb; ++x) edge_or[x] |= e[x], type_or[x] |= t[x];
+  }
+  const bool rows_inside = y >= 3 && y + 3 < h;
+  for (int x = x_first; x <= x_last; ++x) {
+    if (found[x]) continue;
+    float* out = rgb + 3 * x;
+    uint16_t edges = 0;
+    int window_types = 0;
+    for (int k = std::max(0, x - 3); k <= std::min(w - 1, x + 3); ++k) edges |= edge_or[k], window_types |= type_or[k];
+    if (!(edges & bits::kHasSample))  // a hole: fallback_color's first answer
+      out[0] = out[1] = out[2] = 0.0f;
+    else if (window_types == kTypeEmpty && rows_inside && x >= 3 && x + 3 < w)  // (outside counts as complex)
+      whole_window_mean(rows, x, y, out);
+    else
+      fallback_reaching(rows, x, y, reach_window7(types, x, y), out, blend_near_edges);
+  }
 }
 
 float interpolate_pixel(const EpiRows& rows, int x, int y, uint32_t reach, float rgb[3], bool* found,

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include "epi/epi_pixel.h"
 #include "epi/reachability.h"
@@ -39,6 +40,18 @@ float interpolate_pixel(const EpiRows& rows, int x, int y, uint32_t reach, float
 // simple estimate, then the uniform 7x7 average; otherwise black. Colour never crosses an edge
 // into a pixel whose 5x5 is edge-free (ReconstructSettings::blend_unreached_near_edges).
 void fallback_color(const EpiRows& rows, int x, int y, float rgb[3], bool blend_near_edges = true);
+
+// fallback_color for every pixel x of row y whose found[x] is 0, into rgb + 3 x: the same bits
+// (the schedules' interpolation stage, where such pixels come in runs after motion). The 7x7
+// windows' hole and edge tests read seven column ORs instead of 49 words, and an edge-free
+// window inside the image takes its weighted sum without a branch per sample. `scratch` keeps
+// the column ORs' storage (a thread's, between rows).
+struct FallbackScratch {
+  std::vector<uint16_t> edge_or;  // per column: the edge words of rows y-3..y+3, ORed
+  std::vector<uint8_t> type_or;   // per column: their types, ORed
+};
+void fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, bool blend_near_edges,
+                  FallbackScratch& scratch);
 
 
 // The paper's simple estimate: every sample of the 5x5, same kernel. Returns the total weight.

@@ -163,6 +163,7 @@ struct RowJob {
   uint8_t* relations = nullptr;
   int relations_next = -1;
   ComplexRowCache* complex_cache = nullptr;  // the complex filter's (with kernels), reset per job
+  FallbackScratch* fallback = nullptr;       // fallback_row's (with kernels; null: per pixel)
 
   bool owned(int y) const { return y >= own_first && y <= own_last; }
   bool inside(int y) const { return y >= 0 && y < height; }
@@ -270,15 +271,17 @@ void interpolate_stage(RowJob& j, int y) {
   const bool rendercache = j.settings.filter == Filter::rendercache;
   if (rendercache) j.kernels->rendercache(row);
   else j.kernels->interpolate(row);
-  // Pixels that reached nothing (found 0; few): the oracle's fallback, or the render cache's
-  // 7x7 prefilter where its 3x3 holds no sample.
+  // Pixels that reached nothing (found 0; runs of them after motion): the oracle's fallback, row
+  // by row, or the render cache's 7x7 prefilter where its 3x3 holds no sample.
+  const bool by_rows = !rendercache && j.fallback;
+  if (by_rows) fallback_row(rows, y, found, colors, j.settings.blend_unreached_near_edges, *j.fallback);
   for (auto* p = static_cast<uint8_t*>(std::memchr(found, 0, size_t(j.width))); p;
        p = static_cast<uint8_t*>(std::memchr(p + 1, 0, size_t(found + j.width - p - 1)))) {
     const int x = int(p - found);
     if (rendercache) {
       window_average(rows, x, y, 3, colors + 3 * x);
       *p = 1;
-    } else {
+    } else if (!by_rows) {
       fallback_color(rows, x, y, colors + 3 * x, j.settings.blend_unreached_near_edges);
     }
     priority[x] = kMaxPriority;
@@ -371,6 +374,7 @@ struct ThreadScratch {
   std::vector<float> priority;
   std::vector<uint8_t> relations;
   ComplexRowCache complex_cache;
+  FallbackScratch fallback;
   void resize(int w) {
     if (relations.size() != kRelationRows * relations_stride(w)) relations.assign(kRelationRows * relations_stride(w), 0);
     static_assert(ring_rows(Plane::samples) <= kClassRingRows, "decoded rows live in rings of the classified rows' size");
@@ -473,6 +477,7 @@ void Reconstructor::staged(const EpiImage& epi, const BoundaryMasks& masks, cons
         job.reuse_relations = schedule.reuse_relations;
         job.relations = local.relations.data();
         job.complex_cache = &local.complex_cache, local.complex_cache.reset();
+        job.fallback = schedule.row_fallback ? &local.fallback : nullptr;
         for (int y = range.begin(); y != range.end(); ++y) run_stage_row(stage.stage, job, y);
       });
       times[stage.stage] = ms_since(t);
@@ -525,6 +530,7 @@ void Reconstructor::tiled(const EpiImage& epi, const BoundaryMasks& masks, const
     job.reuse_reach = schedule.reach_symmetry, job.reuse_relations = schedule.reuse_relations;
     job.relations = local.relations.data();
     job.complex_cache = &local.complex_cache, local.complex_cache.reset();
+    job.fallback = schedule.row_fallback ? &local.fallback : nullptr;
     job.stage_first = first[size_t(Stage::reachability)];
     const int classified_first = first[size_t(Stage::classify)];
     for (int y = classified_first; y <= last[size_t(Stage::classify)] + kMaxLag; ++y)

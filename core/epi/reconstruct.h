@@ -63,6 +63,10 @@ struct Schedule {
   // rows that read them (docs/epi.md); false: the window's five rows recomputed for every row
   // (the bench's measure of what that saves).
   bool reuse_relations = true;
+  // Pixels that reach no sample take the fallback row by row (fallback_row: column ORs, the
+  // edge-free windows without a branch per sample); false: fallback_color pixel by pixel (the
+  // bench's measure of what that saves). The same bits either way.
+  bool row_fallback = true;
 };
 
 struct Reconstruction {

@@ -249,6 +249,45 @@ TEST(Fallback, EqualsTheStraightforwardLoopOnRandomPatterns) {
   EXPECT_GT(black, size_t(50));  // the sparse patterns hold holes
 }
 
+// The schedules' row fallback against the per-pixel one: every pixel of every row, where any
+// pixel may be unreached (found 0), on patterns from holes to dense, sizes down to 1 pixel, both
+// blend settings; it must take each path (holes, edge-free windows, the general case).
+TEST(Fallback, RowEqualsThePixelFallbackOnRandomPatterns) {
+  size_t holes = 0, edge_free = 0, general = 0;
+  FallbackScratch scratch;
+  std::mt19937 random(7);
+  for (const auto& [w, h] : {std::pair{37, 23}, std::pair{64, 9}, std::pair{1, 12}, std::pair{13, 1}, std::pair{6, 6}})
+    for (const double density : {0.01, 0.03, 0.08, 0.3, 0.9})
+      for (uint64_t seed = 1; seed <= 3; ++seed) {
+        test::Built b = test::build(test::random_pattern(w, h, 10, seed), density, seed);
+        classify_rows(b.epi, b.masks, 0, h);
+        const std::vector<uint8_t> types = types_of(b.epi);
+        const EpiRows rows = whole_image_rows(b.epi, types.data());
+        for (const bool blend : {true, false})
+          for (int y = 0; y < h; ++y) {
+            std::vector<uint8_t> found(static_cast<size_t>(w));
+            for (uint8_t& f : found) f = random() % 4 == 0;  // mostly unreached
+            std::vector<float> got(3 * size_t(w), -1.0f), want(3 * size_t(w), -1.0f);
+            fallback_row(rows, y, found.data(), got.data(), blend, scratch);
+            for (int x = 0; x < w; ++x)
+              if (!found[size_t(x)]) {
+                fallback_color(rows, x, y, &want[3 * size_t(x)], blend);
+                const bool inside = x >= 3 && y >= 3 && x + 3 < w && y + 3 < h;
+                int any_type = 0, any_sample = 0;
+                for (int py = std::max(0, y - 3); py <= std::min(h - 1, y + 3); ++py)
+                  for (int px = std::max(0, x - 3); px <= std::min(w - 1, x + 3); ++px)
+                    any_type |= rows.type_at(px, py), any_sample |= has_sample(rows.edge_at(px, py));
+                (!any_sample ? holes : inside && any_type == kTypeEmpty ? edge_free : general) += 1;
+              }
+            ASSERT_EQ(0, std::memcmp(got.data(), want.data(), got.size() * sizeof(float)))
+                << w << "x" << h << " density " << density << " seed " << seed << " row " << y << " blend " << blend;
+          }
+      }
+  EXPECT_GT(holes, size_t(100));
+  EXPECT_GT(edge_free, size_t(100));
+  EXPECT_GT(general, size_t(100));
+}
+
 // A disocclusion beside a straight edge: samples below a horizontal edge, none above. With the
 // blend near edges (the default) the edge-free pixels just above the edge take the colour from
 // across it (the floor colour the renderer showed above a floor's far border, docs/render.md
