@@ -16,10 +16,21 @@ size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<con
   const size_t n = size_t(w) * size_t(h);
   if (holes.size() != n || barrier.size() != n) throw std::invalid_argument("fill_holes: mask size differs from the image");
   // state: 0 filled (a source), 1 hole, 2 hole on a barrier (filled last).
+  // The passes below visit the holes only (a few per mille of a frame's pixels after motion, in
+  // ascending order, as a scan of the image would): `hole_list`, gathered once.
   std::vector<uint8_t>& state = scratch.state;
   std::vector<uint32_t> &front = scratch.front, &next = scratch.next, &ring = scratch.ring, &last = scratch.last;
-  state.resize(n), front.clear(), last.clear();
-  for (size_t i = 0; i < n; ++i) state[i] = holes[i] ? (barrier[i] ? 2 : 1) : 0;
+  std::vector<uint32_t>& hole_list = scratch.holes;
+  state.resize(n), front.clear(), last.clear(), hole_list.clear();
+  for (size_t i = 0; i < n; ++i) state[i] = uint8_t((holes[i] != 0) * (1 + (barrier[i] != 0)));
+  for (size_t i = 0; i < n; i += 64) {  // 64 pixels at a time: most such chunks hold no hole
+    const size_t end = std::min(n, i + 64);
+    uint8_t any = 0;
+    for (size_t k = i; k < end; ++k) any |= state[k];
+    if (any)
+      for (size_t k = i; k < end; ++k)
+        if (state[k]) hole_list.push_back(uint32_t(k));
+  }
   auto fill_from_neighbours = [&](int x, int y, bool through_barriers) {
     float sum[3] = {0, 0, 0};
     int count = 0;
@@ -44,9 +55,8 @@ size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<con
     return false;
   };
   // The first ring: holes off barriers next to a filled pixel off a barrier.
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      if (state[size_t(y) * size_t(w) + size_t(x)] == 1 && has_source_neighbour(x, y)) front.push_back(uint32_t(y * w + x));
+  for (const uint32_t i : hole_list)
+    if (state[i] == 1 && has_source_neighbour(int(i % uint32_t(w)), int(i / uint32_t(w)))) front.push_back(i);
   size_t filled = 0;
   while (!front.empty()) {
     // Each ring is coloured from the rings before it only, then becomes a source.
@@ -68,21 +78,21 @@ size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<con
     front.swap(next);
   }
   // Holes on barriers: from any filled neighbour.
-  for (size_t i = 0; i < n; ++i)
-    if (state[i] == 2 && fill_from_neighbours(int(i % size_t(w)), int(i / size_t(w)), true)) last.push_back(uint32_t(i));
+  for (const uint32_t i : hole_list)
+    if (state[i] == 2 && fill_from_neighbours(int(i % uint32_t(w)), int(i / uint32_t(w)), true)) last.push_back(i);
   for (const uint32_t i : last) state[i] = 0;
   filled += last.size();
   // Holes still unfilled lie in a region the edges enclose that holds no source of its own:
   // rings from any filled neighbour, barriers included (the nearest colours, whatever side).
   front.clear();
-  for (size_t i = 0; i < n; ++i) {
+  for (const uint32_t i : hole_list) {
     if (state[i] == 0) continue;
     state[i] = 1;
-    const int x = int(i % size_t(w)), y = int(i / size_t(w));
+    const int x = int(i % uint32_t(w)), y = int(i / uint32_t(w));
     bool touches = false;
     for (int qy = std::max(0, y - 1); qy <= std::min(h - 1, y + 1); ++qy)
       for (int qx = std::max(0, x - 1); qx <= std::min(w - 1, x + 1); ++qx) touches |= state[size_t(qy) * size_t(w) + size_t(qx)] == 0;
-    if (touches) front.push_back(uint32_t(i));
+    if (touches) front.push_back(i);
   }
   while (!front.empty()) {
     ring.clear();

@@ -21,7 +21,7 @@ namespace epi::render {
 // `scratch` keeps the fill's working storage between calls (the renderer's, per frame).
 struct HoleFillScratch {
   std::vector<uint8_t> state;
-  std::vector<uint32_t> front, next, ring, last;
+  std::vector<uint32_t> front, next, ring, last, holes;
 };
 size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<const uint8_t> barrier,
                   HoleFillScratch& scratch);
