@@ -9,7 +9,10 @@
 //   other     no point drawn, none hidden near (reconstruction, holes)
 // With --out, each run also writes RUN_causes.png: pixels off by more than 0.1 coloured by cause
 // (hidden red, colour yellow, near hidden magenta, other blue) over the dimmed frame.
-// Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--out DIR] SCENE.gltf...
+// --runs picks the runs (comma-separated: path, still, rc; all three by default). --reference-dir
+// keeps each scene's reference there (SCENE_N_Sspp_FRAMES.exr, the same for every seed) and reads
+// it back on later runs.
+// Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs LIST] [--out DIR] SCENE.gltf...
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -45,12 +48,18 @@ struct Options {
   double budget = 0.02;
   uint64_t seed = 5;
   std::string out;
+  std::string runs = "path,still,rc";
+  std::string reference_dir;
+  int occlusion_radius = -1;  // PointCacheSettings::occlusion_radius (-1: the default)
+  int sparse_occlusion_radius = -1;  // PointCacheSettings::sparse_occlusion_radius (-1: the default, 0: off)
 };
 
 Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Options& o, bool still, RenderMode mode,
         const RgbImage& reference, const std::string& image_file) {
   FrameSettings s;
   s.mode = mode, s.width = o.size, s.height = o.size, s.sync = true, s.sample_budget = o.budget, s.seed = o.seed;
+  if (o.occlusion_radius >= 0) s.cache.occlusion_radius = o.occlusion_radius;
+  if (o.sparse_occlusion_radius >= 0) s.cache.sparse_occlusion_radius = o.sparse_occlusion_radius;
   FrameRenderer renderer(scene, ray_scene, shader, s);
   const CameraPath path = scene_camera_path(scene, o.frames);
   const Camera last = path.camera_at(o.frames - 1);
@@ -133,11 +142,15 @@ int run_all(int argc, char** argv) {
     else if (a == "--spp") o.spp = std::stoi(value());
     else if (a == "--out") o.out = value();
     else if (a == "--seed") o.seed = std::stoull(value());
+    else if (a == "--runs") o.runs = "," + value() + ",";
+    else if (a == "--reference-dir") o.reference_dir = value();
+    else if (a == "--occlusion-radius") o.occlusion_radius = std::stoi(value());
+    else if (a == "--sparse-occlusion-radius") o.sparse_occlusion_radius = std::stoi(value());
     else if (a.starts_with("-")) o.size = 0;  // unknown option (also --help): the usage line below
     else scenes.push_back(a);
   }
   if (scenes.empty() || o.size < 8 || o.frames < 1 || !(o.budget > 0.0 && o.budget <= 1.0)) {
-    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--out DIR] SCENE.gltf...\n");
+    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--out DIR] SCENE.gltf...\n");
     return 2;
   }
   if (!o.out.empty()) std::filesystem::create_directories(o.out);
@@ -150,16 +163,26 @@ int run_all(int argc, char** argv) {
     const Shader shader(ray_scene, ShaderSettings{});
     View view;
     view.camera = scene_camera_path(scene, o.frames).camera_at(o.frames - 1), view.width = o.size, view.height = o.size;
-    const RgbImage reference = render_image(shader, view, o.spp);
     const std::string name = std::filesystem::path(file).stem().string();
+    const std::string kept = o.reference_dir.empty() ? "" : o.reference_dir + "/" + name + "_" + std::to_string(o.size) + "_" +
+                                                                std::to_string(o.spp) + "spp_" + std::to_string(o.frames) + ".exr";
+    RgbImage reference;
+    if (!kept.empty() && std::filesystem::exists(kept)) {
+      reference = read_image(kept);
+    } else {
+      reference = render_image(shader, view, o.spp);
+      if (!kept.empty()) std::filesystem::create_directories(o.reference_dir), write_image(kept, reference);
+    }
     if (!o.out.empty()) write_image(o.out + "/" + name + "_reference.png", reference);
     const struct {
       const char* label;
+      const char* key;
       bool still;
       RenderMode mode;
-    } runs[] = {{"epi, path", false, RenderMode::epi}, {"epi, still", true, RenderMode::epi},
-                {"render cache, path", false, RenderMode::rendercache}};
+    } runs[] = {{"epi, path", ",path,", false, RenderMode::epi}, {"epi, still", ",still,", true, RenderMode::epi},
+                {"render cache, path", ",rc,", false, RenderMode::rendercache}};
     for (const auto& k : runs) {
+      if (o.runs != "path,still,rc" && o.runs.find(k.key) == std::string::npos) continue;
       const std::string image_file = o.out.empty() ? "" : o.out + "/" + name + "_" + (k.mode == RenderMode::epi ? "epi" : "rc") +
                                                                (k.still ? "_still" : "_path") + ".png";
       const Run r = run(scene, ray_scene, shader, o, k.still, k.mode, reference, image_file);

@@ -638,10 +638,19 @@ bool PointCache::refines(const CachePoint& cached, const PointColour& cached_col
 
 bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                            const EdgeCrossings& crossings, int x, int y) const {
-  const int w = image_.width, h = image_.height, radius = std::max(1, settings_.occlusion_radius);
+  const int w = image_.width, h = image_.height, dense = std::max(1, settings_.occlusion_radius);
+  const int radius = std::max(dense, settings_.sparse_occlusion_radius);
   const float scale = 1.0f + settings_.occlusion_margin;
   const size_t i = image_.index(x, y);
   const float depth = image_.depth[i];
+  // Beyond the dense radius a nearer point counts only where it stands alone in its 3x3.
+  auto alone = [&](int qx, int qy) {
+    for (int ry = std::max(0, qy - 1); ry <= std::min(h - 1, qy + 1); ++ry)
+      for (int rx = std::max(0, qx - 1); rx <= std::min(w - 1, qx + 1); ++rx)
+        if ((rx != qx || ry != qy) && image_.point[image_.index(rx, ry)] >= 0 && image_.depth[image_.index(rx, ry)] * scale < depth)
+          return false;
+    return true;
+  };
   // Where a drawn point lies in the image, exactly (the image keeps only its 4x4 region).
   auto position = [&](size_t pixel) {
     return glm::dvec2(frame.project(world_position(points_[size_t(image_.point[pixel])], frame, object_to_world)).pixel);
@@ -653,6 +662,7 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
     for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius); ++qx) {
       const size_t q = image_.index(qx, qy);
       if (image_.point[q] < 0 || !(image_.depth[q] * scale < depth)) continue;
+      if (std::max(std::abs(qx - x), std::abs(qy - y)) > dense && !alone(qx, qy)) continue;
       const CachePoint& near = points_[size_t(image_.point[q])];
       if (near.object == kNone || near.object >= object_to_world.size()) continue;
       if (ray_depth == 0.0f) {
@@ -676,7 +686,7 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
 size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                         const EdgeCrossings& crossings) {
   if (settings_.reference_path) return cull_behind_surfaces_reference(frame, object_to_world, crossings);
-  const int radius = std::max(1, settings_.occlusion_radius);
+  const int radius = std::max({1, settings_.occlusion_radius, settings_.sparse_occlusion_radius});
   const float scale = 1.0f + settings_.occlusion_margin;
   // Normals back to world space: the inverse transpose of each object's matrix.
   normal_to_world_.resize(object_to_world.size());

@@ -38,6 +38,11 @@ struct PointCacheSettings {
   // pixels, with no geometric edge between them, is hidden.
   float occlusion_margin = 0.02f;
   int occlusion_radius = 2;
+  // ... and up to `sparse_occlusion_radius` pixels, a nearer point that stands alone (no other
+  // drawn point in its 3x3 is nearer than the tested one by the margin): a near surface sampled
+  // more sparsely than occlusion_radius, as one magnified by the camera's motion, hides what lies
+  // behind the gaps between its points (docs/render.md, "Sparse near surfaces"). 0: off.
+  int sparse_occlusion_radius = 4;
   // Progressive refinement (docs/render.md, "Convergence at rest"): a result landing on the same
   // surface point, shaded under the same placement (epoch) and, for view-dependent shading, from
   // about the same direction, is averaged into it instead of replacing it.
