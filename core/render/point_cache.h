@@ -273,6 +273,14 @@ class PointCache {
     return display_srgb(p, colours_[slot], true) | uint32_t(std::min<int>(priority_age(p, stored_terms(p)), 255)) << bits::kAgeShift;
   }
   void window_min_depth(int radius);  // min_depth_: the least depth over each pixel's (2r+1)^2 window
+  void window_min(const std::vector<float>& depth, int radius, std::vector<float>& min_depth);  // the same of any image
+  // For the sparse occlusion radius: neighbour_min_depth_, the least depth of the other pixels of
+  // each pixel's 3x3 (a point q stands alone for a farther point p when that times 1 + margin is
+  // not below p's depth), and alone_depth_, the depth of the points nearer than all their
+  // neighbours (the only ones that can stand alone; +inf elsewhere), whose window minimum finds
+  // the candidates. Returns false when the sparse radius adds nothing (nothing computed, and
+  // hidden_behind_a_neighbour reads neither).
+  bool mark_alone();
   // Runs pass(first row, end row, list) over bands of rows in parallel, each with its own cleared
   // list in band_lists_; remove_listed() then empties the listed pixels and counts them.
   template <class BandPass>
@@ -316,6 +324,7 @@ class PointCache {
   bool pixel_words_current_ = false;
   std::vector<std::vector<uint32_t>> band_lists_;  // depth_cull, cull_behind_surfaces: pixels to empty
   std::vector<float> row_min_depth_, min_depth_;    // window_min_depth
+  std::vector<float> neighbour_min_depth_, alone_depth_, sparse_min_depth_;  // mark_alone
   std::vector<glm::mat3> normal_to_world_;  // cull_behind_surfaces' normal matrices
   std::vector<uint8_t> hidden_;             // ... and the reference path's verdicts
   std::vector<glm::vec3> eye_local_;        // the eye in each object's space (project)
