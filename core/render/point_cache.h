@@ -160,7 +160,8 @@ class PointCache {
                 uint16_t epoch = 0);
 
   // Epi mode, after project(): removes from image() the drawn points that lie behind the tangent
-  // plane of a nearer drawn point close by, unless a geometric edge (silhouette, border, sharp)
+  // plane of a nearer drawn point close by (within occlusion_radius, or sparse_occlusion_radius
+  // when that point stands alone in its 3x3), unless a geometric edge (silhouette, border, sharp)
   // passes between the two (`crossings`: this frame's edges, tested exactly, sub-pixel). The
   // EPI's edges say where depth may jump; elsewhere the visible surface is continuous, so a
   // far point next to a near one shows through a sparsely sampled nearer surface (the dots
