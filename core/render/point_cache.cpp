@@ -637,7 +637,8 @@ bool PointCache::refines(const CachePoint& cached, const PointColour& cached_col
 }
 
 bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
-                                           const EdgeCrossings& crossings, int x, int y) const {
+                                           const EdgeCrossings& crossings, int x, int y, bool dense_window,
+                                           bool sparse_ring) const {
   const int w = image_.width, h = image_.height, dense = std::max(1, settings_.occlusion_radius);
   const int radius = std::max(dense, settings_.sparse_occlusion_radius);
   const float scale = 1.0f + settings_.occlusion_margin;
@@ -670,12 +671,13 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
     // Hidden unless a silhouette, border or sharp edge passes between the two points.
     return !crossings.separated(at_p, position(q));
   };
-  for (int qy = std::max(0, y - dense); qy <= std::min(h - 1, y + dense); ++qy)
-    for (int qx = std::max(0, x - dense); qx <= std::min(w - 1, x + dense); ++qx) {
-      const size_t q = image_.index(qx, qy);
-      if (image_.point[q] >= 0 && image_.depth[q] * scale < depth && behind(q)) return true;
-    }
-  if (radius == dense) return false;
+  if (dense_window)
+    for (int qy = std::max(0, y - dense); qy <= std::min(h - 1, y + dense); ++qy)
+      for (int qx = std::max(0, x - dense); qx <= std::min(w - 1, x + dense); ++qx) {
+        const size_t q = image_.index(qx, qy);
+        if (image_.point[q] >= 0 && image_.depth[q] * scale < depth && behind(q)) return true;
+      }
+  if (radius == dense || !sparse_ring) return false;
   // Beyond the dense radius a nearer point counts only where it stands alone: no other drawn
   // point in its 3x3 is nearer than this one by the margin (mark_alone; alone_depth_ is +inf
   // where no point is, or none that could stand alone).
@@ -708,7 +710,11 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   const int32_t* point = image_.point.data();
   for_candidates([=](size_t i) { return (std::min(min_depth[i], sparse_min[i]) * scale < depth[i]) & (point[i] >= 0); },
                  [&](int x, int y, std::vector<uint32_t>& hidden) {
-    if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y)) hidden.push_back(uint32_t(image_.index(x, y)));
+    // A window whose least depth is not nearer by the margin cannot hold the nearer point.
+    const size_t i = image_.index(x, y);
+    if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y, min_depth[i] * scale < depth[i],
+                                  sparse_min[i] * scale < depth[i]))
+      hidden.push_back(uint32_t(i));
   });
   return remove_listed();
 }

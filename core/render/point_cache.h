@@ -252,7 +252,8 @@ class PointCache {
   bool near_depth_edge(std::span<const uint8_t> edge_pixels, int x, int y) const;
   // The occlusion test of one drawn pixel (both paths; normal_to_world_ made for this frame).
   bool hidden_behind_a_neighbour(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
-                                 const EdgeCrossings& crossings, int x, int y) const;
+                                 const EdgeCrossings& crossings, int x, int y, bool dense_window = true,
+                                 bool sparse_ring = true) const;
   size_t cull_behind_surfaces_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                         const EdgeCrossings& crossings);
   void fill_epi_reference(EpiImage& epi) const;
