@@ -9,7 +9,13 @@
 //   other     no point drawn, none hidden near (reconstruction, holes)
 // With --out, each run also writes RUN_causes.png: pixels off by more than 0.1 coloured by cause
 // (hidden red, colour yellow, near hidden magenta, other blue) over the dimmed frame.
-// Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--out DIR] SCENE.gltf...
+// --runs picks the runs (comma-separated: path, still, rc; all three by default). --reference-dir
+// keeps each scene's reference there (SCENE_N_Sspp_FRAMES.exr, the same for every seed) and reads
+// it back on later runs. --occlusion-radius and --sparse-occlusion-radius set the PointCacheSettings
+// of that name (0 turns the sparse test off); --times adds a column, the median ms per frame of the
+// points stage (insert, project, culls, fill; docs/render.md).
+// Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs LIST] [--reference-dir DIR]
+//        [--occlusion-radius N] [--sparse-occlusion-radius N] [--times] [--out DIR] SCENE.gltf...
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -37,6 +43,7 @@ double display(float linear) {
 
 struct Run {
   double rmse = 0, over01 = 0, over02 = 0;
+  double points_ms = 0;  // median per frame of the points stage (FrameStage::points)
   size_t hidden = 0, colour = 0, near = 0, other = 0;
 };
 
@@ -45,17 +52,28 @@ struct Options {
   double budget = 0.02;
   uint64_t seed = 5;
   std::string out;
+  std::string runs = "path,still,rc";
+  std::string reference_dir;
+  int occlusion_radius = -1;  // PointCacheSettings::occlusion_radius (-1: the default)
+  int sparse_occlusion_radius = -1;
+  bool times = false;  // --times: a last column, the points stage's median ms per frame  // PointCacheSettings::sparse_occlusion_radius (-1: the default, 0: off)
 };
 
 Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Options& o, bool still, RenderMode mode,
         const RgbImage& reference, const std::string& image_file) {
   FrameSettings s;
   s.mode = mode, s.width = o.size, s.height = o.size, s.sync = true, s.sample_budget = o.budget, s.seed = o.seed;
+  if (o.occlusion_radius >= 0) s.cache.occlusion_radius = o.occlusion_radius;
+  if (o.sparse_occlusion_radius >= 0) s.cache.sparse_occlusion_radius = o.sparse_occlusion_radius;
   FrameRenderer renderer(scene, ray_scene, shader, s);
   const CameraPath path = scene_camera_path(scene, o.frames);
   const Camera last = path.camera_at(o.frames - 1);
   RgbImage image;
-  for (int f = 0; f < o.frames; ++f) image = renderer.render(still ? last : path.camera_at(f));
+  std::vector<double> points_ms;
+  for (int f = 0; f < o.frames; ++f) {
+    image = renderer.render(still ? last : path.camera_at(f));
+    points_ms.push_back(renderer.stats().ms[FrameStage::points]);
+  }
   if (!image_file.empty()) write_image(image_file, image);
 
   View view;
@@ -110,6 +128,8 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
   if (!image_file.empty()) write_image(image_file.substr(0, image_file.size() - 4) + "_causes.png", causes);
   const double pixels = double(n) * double(n);
   r.rmse = std::sqrt(squared / (3.0 * pixels)), r.over01 *= 100.0 / pixels, r.over02 *= 100.0 / pixels;
+  std::nth_element(points_ms.begin(), points_ms.begin() + ptrdiff_t(points_ms.size() / 2), points_ms.end());
+  r.points_ms = points_ms[points_ms.size() / 2];
   return r;
 }
 
@@ -133,11 +153,16 @@ int run_all(int argc, char** argv) {
     else if (a == "--spp") o.spp = std::stoi(value());
     else if (a == "--out") o.out = value();
     else if (a == "--seed") o.seed = std::stoull(value());
+    else if (a == "--runs") o.runs = "," + value() + ",";
+    else if (a == "--reference-dir") o.reference_dir = value();
+    else if (a == "--occlusion-radius") o.occlusion_radius = std::stoi(value());
+    else if (a == "--sparse-occlusion-radius") o.sparse_occlusion_radius = std::stoi(value());
+    else if (a == "--times") o.times = true;
     else if (a.starts_with("-")) o.size = 0;  // unknown option (also --help): the usage line below
     else scenes.push_back(a);
   }
   if (scenes.empty() || o.size < 8 || o.frames < 1 || !(o.budget > 0.0 && o.budget <= 1.0)) {
-    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--out DIR] SCENE.gltf...\n");
+    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--times] [--out DIR] SCENE.gltf...\n");
     return 2;
   }
   if (!o.out.empty()) std::filesystem::create_directories(o.out);
@@ -150,21 +175,33 @@ int run_all(int argc, char** argv) {
     const Shader shader(ray_scene, ShaderSettings{});
     View view;
     view.camera = scene_camera_path(scene, o.frames).camera_at(o.frames - 1), view.width = o.size, view.height = o.size;
-    const RgbImage reference = render_image(shader, view, o.spp);
     const std::string name = std::filesystem::path(file).stem().string();
+    const std::string kept = o.reference_dir.empty() ? "" : o.reference_dir + "/" + name + "_" + std::to_string(o.size) + "_" +
+                                                                std::to_string(o.spp) + "spp_" + std::to_string(o.frames) + ".exr";
+    RgbImage reference;
+    if (!kept.empty() && std::filesystem::exists(kept)) {
+      reference = read_image(kept);
+    } else {
+      reference = render_image(shader, view, o.spp);
+      if (!kept.empty()) std::filesystem::create_directories(o.reference_dir), write_image(kept, reference);
+    }
     if (!o.out.empty()) write_image(o.out + "/" + name + "_reference.png", reference);
     const struct {
       const char* label;
+      const char* key;
       bool still;
       RenderMode mode;
-    } runs[] = {{"epi, path", false, RenderMode::epi}, {"epi, still", true, RenderMode::epi},
-                {"render cache, path", false, RenderMode::rendercache}};
+    } runs[] = {{"epi, path", ",path,", false, RenderMode::epi}, {"epi, still", ",still,", true, RenderMode::epi},
+                {"render cache, path", ",rc,", false, RenderMode::rendercache}};
     for (const auto& k : runs) {
+      if (o.runs != "path,still,rc" && o.runs.find(k.key) == std::string::npos) continue;
       const std::string image_file = o.out.empty() ? "" : o.out + "/" + name + "_" + (k.mode == RenderMode::epi ? "epi" : "rc") +
                                                                (k.still ? "_still" : "_path") + ".png";
       const Run r = run(scene, ray_scene, shader, o, k.still, k.mode, reference, image_file);
-      std::printf("| %s | %s | %.4f | %.2f %% | %.2f %% | %zu | %zu | %zu | %zu |\n", name.c_str(), k.label, r.rmse, r.over01,
+      std::printf("| %s | %s | %.4f | %.2f %% | %.2f %% | %zu | %zu | %zu | %zu |", name.c_str(), k.label, r.rmse, r.over01,
                   r.over02, r.hidden, r.colour, r.near, r.other);
+      if (o.times) std::printf(" %.2f |", r.points_ms);
+      std::printf("\n");
       std::fflush(stdout);
     }
   }

@@ -4,20 +4,23 @@ and after a change: mean and range of the RMSE per scene, their ratio, and the m
 pixels off by more than 0.2, as a Markdown table. Each input line is one table row as the
 program prints it (optionally after a label and a seed).
 
-  bench/render/motion_seeds_table.py BEFORE.txt AFTER.txt
+  bench/render/motion_seeds_table.py [--run still|path|rc] BEFORE.txt AFTER.txt
+
+--run picks the rows ("epi, path" by default; still: "epi, still"; rc: "render cache, path").
 """
 import collections
 import re
 import sys
 
-ROW = re.compile(r"\| (\S+) \| epi, path \| ([\d.]+) \| [\d.]+ % \| ([\d.]+) %")
+RUNS = {"path": "epi, path", "still": "epi, still", "rc": "render cache, path"}
 
 
-def load(name):
+def load(name, run="path"):
+    row = re.compile(r"\| (\S+) \| " + re.escape(RUNS[run]) + r" \| ([\d.]+) \| [\d.]+ % \| ([\d.]+) %")
     rows = collections.defaultdict(list)
     with open(name) as f:
         for line in f:
-            m = ROW.search(line)
+            m = row.search(line)
             if m:
                 rows[m.group(1)].append((float(m.group(2)), float(m.group(3))))
     return rows
@@ -28,9 +31,13 @@ def mean(values):
 
 
 def main():
-    if len(sys.argv) != 3:
+    args = sys.argv[1:]
+    run = "path"
+    if len(args) == 4 and args[0] == "--run" and args[1] in RUNS:
+        run, args = args[1], args[2:]
+    if len(args) != 2:
         sys.exit(__doc__)
-    before, after = load(sys.argv[1]), load(sys.argv[2])
+    before, after = load(args[0], run), load(args[1], run)
     print("| scene | seeds | RMSE before (mean, range) | RMSE after (mean, range) | after / before | > 0.2 before | > 0.2 after |")
     print("|---|---|---|---|---|---|---|")
     for scene in sorted(before):

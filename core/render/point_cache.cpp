@@ -637,11 +637,14 @@ bool PointCache::refines(const CachePoint& cached, const PointColour& cached_col
 }
 
 bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
-                                           const EdgeCrossings& crossings, int x, int y) const {
-  const int w = image_.width, h = image_.height, radius = std::max(1, settings_.occlusion_radius);
+                                           const EdgeCrossings& crossings, int x, int y, bool dense_window,
+                                           bool sparse_ring) const {
+  const int w = image_.width, h = image_.height, dense = std::max(1, settings_.occlusion_radius);
+  const int radius = std::max(dense, settings_.sparse_occlusion_radius);
   const float scale = 1.0f + settings_.occlusion_margin;
   const size_t i = image_.index(x, y);
   const float depth = image_.depth[i];
+
   // Where a drawn point lies in the image, exactly (the image keeps only its 4x4 region).
   auto position = [&](size_t pixel) {
     return glm::dvec2(frame.project(world_position(points_[size_t(image_.point[pixel])], frame, object_to_world)).pixel);
@@ -649,26 +652,40 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
   Ray ray;
   float ray_depth = 0.0f;  // depth per unit along the ray; the ray is made when first needed
   glm::dvec2 at_p{0.0};
+  // Whether p lies behind the tangent plane of the nearer point at q with no edge between them.
+  auto behind = [&](size_t q) {
+    const CachePoint& near = points_[size_t(image_.point[q])];
+    if (near.object == kNone || near.object >= object_to_world.size()) return false;
+    if (ray_depth == 0.0f) {
+      at_p = position(i);
+      ray = frame.ray(float(at_p.x), float(at_p.y));
+      ray_depth = glm::dot(ray.direction, frame.forward());
+    }
+    // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
+    const glm::vec3 n = glm::normalize(normal_to_world_[near.object] * unpack_unit(near.normal));
+    const glm::vec3 at = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));
+    const float facing = glm::dot(n, ray.direction);
+    if (std::abs(facing) < 0.1f) return false;
+    const float plane_depth = glm::dot(n, at - ray.origin) / facing * ray_depth;
+    if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) return false;
+    // Hidden unless a silhouette, border or sharp edge passes between the two points.
+    return !crossings.separated(at_p, position(q));
+  };
+  if (dense_window)
+    for (int qy = std::max(0, y - dense); qy <= std::min(h - 1, y + dense); ++qy)
+      for (int qx = std::max(0, x - dense); qx <= std::min(w - 1, x + dense); ++qx) {
+        const size_t q = image_.index(qx, qy);
+        if (image_.point[q] >= 0 && image_.depth[q] * scale < depth && behind(q)) return true;
+      }
+  if (radius == dense || !sparse_ring) return false;
+  // Beyond the dense radius a nearer point counts only where it stands alone: no other drawn
+  // point in its 3x3 is nearer than this one by the margin (mark_alone; alone_depth_ is +inf
+  // where no point is, or none that could stand alone).
   for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius); ++qy)
     for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius); ++qx) {
+      if (std::max(std::abs(qx - x), std::abs(qy - y)) <= dense) continue;
       const size_t q = image_.index(qx, qy);
-      if (image_.point[q] < 0 || !(image_.depth[q] * scale < depth)) continue;
-      const CachePoint& near = points_[size_t(image_.point[q])];
-      if (near.object == kNone || near.object >= object_to_world.size()) continue;
-      if (ray_depth == 0.0f) {
-        at_p = position(i);
-        ray = frame.ray(float(at_p.x), float(at_p.y));
-        ray_depth = glm::dot(ray.direction, frame.forward());
-      }
-      // Depth of the near point's tangent plane along p's ray; a plane seen edge-on predicts nothing.
-      const glm::vec3 n = glm::normalize(normal_to_world_[near.object] * unpack_unit(near.normal));
-      const glm::vec3 at = glm::vec3(object_to_world[near.object] * glm::vec4(near.local, 1.0f));
-      const float facing = glm::dot(n, ray.direction);
-      if (std::abs(facing) < 0.1f) continue;
-      const float plane_depth = glm::dot(n, at - ray.origin) / facing * ray_depth;
-      if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) continue;
-      // Hidden unless a silhouette, border or sharp edge passes between the two points.
-      if (!crossings.separated(at_p, position(q))) return true;
+      if (alone_depth_[q] * scale < depth && !(neighbour_min_depth_[q] * scale < depth) && behind(q)) return true;
     }
   return false;
 }
@@ -682,27 +699,64 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   normal_to_world_.resize(object_to_world.size());
   for (size_t o = 0; o < object_to_world.size(); ++o) normal_to_world_[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
   // The nearest depth in each pixel's window: a pixel with no neighbour nearer by the margin
-  // (most of them) is skipped without looking at its neighbours.
+  // (most of them) is skipped without looking at its neighbours. Farther than the dense radius,
+  // only the points that stand alone count: the least depth of those over the sparse radius.
   window_min_depth(radius);
+  const bool sparse = mark_alone();
+  if (sparse) window_min(alone_depth_, settings_.sparse_occlusion_radius, sparse_min_depth_);
   // The test sees the image before the pass: hidden pixels are listed per band, removed after.
   const float *depth = image_.depth.data(), *min_depth = min_depth_.data();
+  const float* sparse_min = sparse ? sparse_min_depth_.data() : min_depth;
   const int32_t* point = image_.point.data();
-  for_candidates([=](size_t i) { return (min_depth[i] * scale < depth[i]) & (point[i] >= 0); },
+  for_candidates([=](size_t i) { return (std::min(min_depth[i], sparse_min[i]) * scale < depth[i]) & (point[i] >= 0); },
                  [&](int x, int y, std::vector<uint32_t>& hidden) {
-    if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y)) hidden.push_back(uint32_t(image_.index(x, y)));
+    // A window whose least depth is not nearer by the margin cannot hold the nearer point.
+    const size_t i = image_.index(x, y);
+    if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y, min_depth[i] * scale < depth[i],
+                                  sparse_min[i] * scale < depth[i]))
+      hidden.push_back(uint32_t(i));
   });
   return remove_listed();
 }
 
-void PointCache::window_min_depth(int radius) {
+bool PointCache::mark_alone() {
   const int w = image_.width, h = image_.height;
-  row_min_depth_.resize(image_.depth.size());
-  min_depth_.resize(image_.depth.size());
+  const size_t n = image_.point.size();
+  if (settings_.sparse_occlusion_radius <= std::max(1, settings_.occlusion_radius)) return false;
+  neighbour_min_depth_.resize(n), alone_depth_.resize(n);
+  constexpr float kInf = std::numeric_limits<float>::infinity();  // also the depth of an empty pixel
+  tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y != rows.end(); ++y) {
+      const float* row = &image_.depth[image_.index(0, y)];
+      const float* above = y > 0 ? &image_.depth[image_.index(0, y - 1)] : nullptr;
+      const float* below = y + 1 < h ? &image_.depth[image_.index(0, y + 1)] : nullptr;
+      float* least = &neighbour_min_depth_[image_.index(0, y)];
+      // The other pixels of the 3x3: left and right in the row, three above and three below.
+      for (int x = 0; x < w; ++x) least[x] = std::min(x > 0 ? row[x - 1] : kInf, x + 1 < w ? row[x + 1] : kInf);
+      for (const float* r : {above, below}) {
+        if (!r) continue;
+        for (int x = 0; x < w; ++x)
+          least[x] = std::min(least[x], std::min(r[x], std::min(x > 0 ? r[x - 1] : kInf, x + 1 < w ? r[x + 1] : kInf)));
+      }
+      // A point can stand alone for some farther point only if it is nearer than all its neighbours.
+      float* alone = &alone_depth_[image_.index(0, y)];
+      for (int x = 0; x < w; ++x) alone[x] = least[x] > row[x] ? row[x] : kInf;  // empty pixels: +inf either way
+    }
+  });
+  return true;
+}
+
+void PointCache::window_min_depth(int radius) { window_min(image_.depth, radius, min_depth_); }
+
+void PointCache::window_min(const std::vector<float>& depth, int radius, std::vector<float>& min_depth) {
+  const int w = image_.width, h = image_.height;
+  row_min_depth_.resize(depth.size());
+  min_depth.resize(depth.size());
   tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
     // The minimum of the row shifted by -r..r, one shift at a time (vectorizable loops; the
     // minimum of depths, never NaN, does not depend on the order).
     for (int y = rows.begin(); y != rows.end(); ++y) {
-      const float* in = &image_.depth[image_.index(0, y)];
+      const float* in = &depth[image_.index(0, y)];
       float* out = &row_min_depth_[image_.index(0, y)];
       std::copy(in, in + w, out);
       for (int d = 1; d <= radius && d < w; ++d) {
@@ -713,7 +767,7 @@ void PointCache::window_min_depth(int radius) {
   });
   tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
     for (int y = rows.begin(); y != rows.end(); ++y) {
-      float* out = &min_depth_[image_.index(0, y)];
+      float* out = &min_depth[image_.index(0, y)];
       std::fill(out, out + w, std::numeric_limits<float>::infinity());
       for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius); ++qy) {
         const float* in = &row_min_depth_[image_.index(0, qy)];

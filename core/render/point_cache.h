@@ -38,6 +38,11 @@ struct PointCacheSettings {
   // pixels, with no geometric edge between them, is hidden.
   float occlusion_margin = 0.02f;
   int occlusion_radius = 2;
+  // ... and up to `sparse_occlusion_radius` pixels, a nearer point that stands alone (no other
+  // drawn point in its 3x3 is nearer than the tested one by the margin): a near surface sampled
+  // more sparsely than occlusion_radius, as one magnified by the camera's motion, hides what lies
+  // behind the gaps between its points (docs/render.md, "Sparse near surfaces"). 0: off.
+  int sparse_occlusion_radius = 4;
   // Progressive refinement (docs/render.md, "Convergence at rest"): a result landing on the same
   // surface point, shaded under the same placement (epoch) and, for view-dependent shading, from
   // about the same direction, is averaged into it instead of replacing it.
@@ -155,7 +160,8 @@ class PointCache {
                 uint16_t epoch = 0);
 
   // Epi mode, after project(): removes from image() the drawn points that lie behind the tangent
-  // plane of a nearer drawn point close by, unless a geometric edge (silhouette, border, sharp)
+  // plane of a nearer drawn point close by (within occlusion_radius, or sparse_occlusion_radius
+  // when that point stands alone in its 3x3), unless a geometric edge (silhouette, border, sharp)
   // passes between the two (`crossings`: this frame's edges, tested exactly, sub-pixel). The
   // EPI's edges say where depth may jump; elsewhere the visible surface is continuous, so a
   // far point next to a near one shows through a sparsely sampled nearer surface (the dots
@@ -246,7 +252,8 @@ class PointCache {
   bool near_depth_edge(std::span<const uint8_t> edge_pixels, int x, int y) const;
   // The occlusion test of one drawn pixel (both paths; normal_to_world_ made for this frame).
   bool hidden_behind_a_neighbour(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
-                                 const EdgeCrossings& crossings, int x, int y) const;
+                                 const EdgeCrossings& crossings, int x, int y, bool dense_window = true,
+                                 bool sparse_ring = true) const;
   size_t cull_behind_surfaces_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                         const EdgeCrossings& crossings);
   void fill_epi_reference(EpiImage& epi) const;
@@ -268,6 +275,14 @@ class PointCache {
     return display_srgb(p, colours_[slot], true) | uint32_t(std::min<int>(priority_age(p, stored_terms(p)), 255)) << bits::kAgeShift;
   }
   void window_min_depth(int radius);  // min_depth_: the least depth over each pixel's (2r+1)^2 window
+  void window_min(const std::vector<float>& depth, int radius, std::vector<float>& min_depth);  // the same of any image
+  // For the sparse occlusion radius: neighbour_min_depth_, the least depth of the other pixels of
+  // each pixel's 3x3 (a point q stands alone for a farther point p when that times 1 + margin is
+  // not below p's depth), and alone_depth_, the depth of the points nearer than all their
+  // neighbours (the only ones that can stand alone; +inf elsewhere), whose window minimum finds
+  // the candidates. Returns false when the sparse radius adds nothing (nothing computed, and
+  // hidden_behind_a_neighbour reads neither).
+  bool mark_alone();
   // Runs pass(first row, end row, list) over bands of rows in parallel, each with its own cleared
   // list in band_lists_; remove_listed() then empties the listed pixels and counts them.
   template <class BandPass>
@@ -311,6 +326,7 @@ class PointCache {
   bool pixel_words_current_ = false;
   std::vector<std::vector<uint32_t>> band_lists_;  // depth_cull, cull_behind_surfaces: pixels to empty
   std::vector<float> row_min_depth_, min_depth_;    // window_min_depth
+  std::vector<float> neighbour_min_depth_, alone_depth_, sparse_min_depth_;  // mark_alone
   std::vector<glm::mat3> normal_to_world_;  // cull_behind_surfaces' normal matrices
   std::vector<uint8_t> hidden_;             // ... and the reference path's verdicts
   std::vector<glm::vec3> eye_local_;        // the eye in each object's space (project)

@@ -145,6 +145,7 @@ size_t PointCache::cull_behind_surfaces_reference(const ViewFrame& frame, std::s
   normal_to_world_.resize(object_to_world.size());
   for (size_t o = 0; o < object_to_world.size(); ++o) normal_to_world_[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
   hidden_.assign(image_.point.size(), 0);
+  mark_alone();
   const size_t removed = tbb::parallel_reduce(
       tbb::blocked_range<int>(0, h, 8), size_t(0),
       [&](const tbb::blocked_range<int>& rows, size_t count) {

@@ -116,5 +116,56 @@ TEST(PointCache, TheOcclusionTestActsInsidePixelsAnEdgeCrossesOnTheNearSideOnly)
   }
 }
 
+// A near plane sampled only every 6 pixels (as a surface the camera approaches is, magnified
+// between its samples) over a densely sampled far plane, no edge anywhere: every far point is
+// hidden, also those 3 and 4 pixels from the nearest near point, which the 2-pixel test alone
+// left drawn (the dark floor dots on rooms' table top along its path: docs/render.md, "Sparse
+// near surfaces"). The dense near plane of the test above keeps the far points 3 or more pixels
+// beyond its last column: a point with near neighbours is no lone sample of a sparse surface.
+TEST(PointCache, FarPointsBetweenTheSamplesOfASparseNearSurfaceAreHidden) {
+  const int w = 24, h = 14;
+  Camera camera;
+  camera.eye = {0, 0, 10}, camera.target = {0, 0, 0}, camera.up = {0, 1, 0}, camera.yfov_degrees = 40.0f;
+  View view;
+  view.camera = camera, view.width = w, view.height = h;
+  const ViewFrame frame(view);
+  auto hit = [&](float px, float py, float plane_z, uint32_t object) {
+    const Ray ray = frame.ray(px, py);
+    ShadeResult r;
+    r.x = px, r.y = py, r.hit = true, r.object = object;
+    r.position = ray.origin + (plane_z - ray.origin.z) / ray.direction.z * ray.direction;
+    r.normal = {0, 0, 1}, r.color = glm::vec3(0.5f);
+    return r;
+  };
+  ShadeBatch far, near;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) far.results.push_back(hit(float(x) + 0.5f, float(y) + 0.5f, -5.0f, 0));
+  for (int y = 1; y < h; y += 6)
+    for (int x = 1; x < w; x += 6) near.results.push_back(hit(float(x) + 0.5f, float(y) + 0.5f, 1.0f, 1));
+  const std::vector<glm::mat4> identity(2, glm::mat4(1.0f));
+  for (const int sparse_radius : {0, 4}) {
+    PointCacheSettings settings;
+    settings.sparse_occlusion_radius = sparse_radius;
+    PointCache cache(w, h, settings);
+    cache.insert(frame, far, identity);
+    cache.project(frame, identity, false);
+    cache.insert(frame, near, identity);
+    cache.project(frame, identity, false);
+    EdgeCrossings none;
+    none.build({}, {}, w, h);
+    cache.cull_behind_surfaces(frame, identity, none);
+    const PointImage& image = cache.image();
+    size_t near_drawn = 0, far_drawn = 0;
+    for (size_t i = 0; i < image.point.size(); ++i)
+      if (image.point[i] >= 0) (cache.points()[size_t(image.point[i])].object == 1 ? near_drawn : far_drawn) += 1;
+    EXPECT_EQ(near_drawn, near.results.size());
+    if (sparse_radius == 0) {
+      EXPECT_GT(far_drawn, 100u);  // 3 or 4 pixels from every near point
+    } else {
+      EXPECT_EQ(far_drawn, 0u);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace epi::render

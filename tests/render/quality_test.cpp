@@ -217,7 +217,7 @@ TEST(QualityTorusCapsule, ShadowEdgeExcessIsTheNarrowPenumbraStrip) {
   // The evidence for FrameSettings::soft_shadow_edges = false (docs/render.md, "Soft-shadow
   // edges"): the same pixels are clearly better without the soft edges, and the paper's behaviour
   // is worse there than the render cache.
-  EXPECT_LT(without, 0.85 * with_edges);
+  EXPECT_LT(without, 0.9 * with_edges);  // 0.85 before the sparse occlusion test (0.852 since: docs/render.md)
   EXPECT_GT(with_edges, cache);
 }
 
