@@ -671,12 +671,33 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
     // Hidden unless a silhouette, border or sharp edge passes between the two points.
     return !crossings.separated(at_p, position(q));
   };
-  if (dense_window)
+  // The nearer points' records lie in the cloud at random: a window's are listed and prefetched
+  // before any is read, so that their cache misses overlap (the verdict, whether any of them
+  // hides p, does not depend on the order; the first hit ends the test).
+  constexpr size_t kListed = 64;
+  uint32_t listed[kListed];
+  size_t count = 0;
+  auto any_behind = [&] {
+    __builtin_prefetch(&points_[size_t(image_.point[i])]);  // p's own, for its exact position
+    for (size_t k = 0; k < count; ++k) __builtin_prefetch(&points_[size_t(image_.point[listed[k]])]);
+    const size_t n = count;
+    count = 0;
+    for (size_t k = 0; k < n; ++k)
+      if (behind(listed[k])) return true;
+    return false;
+  };
+  auto consider = [&](size_t q) {  // true: q hides p, or one listed before it does
+    listed[count++] = uint32_t(q);
+    return count == kListed && any_behind();
+  };
+  if (dense_window) {
     for (int qy = std::max(0, y - dense); qy <= std::min(h - 1, y + dense); ++qy)
       for (int qx = std::max(0, x - dense); qx <= std::min(w - 1, x + dense); ++qx) {
         const size_t q = image_.index(qx, qy);
-        if (image_.point[q] >= 0 && image_.depth[q] * scale < depth && behind(q)) return true;
+        if (image_.point[q] >= 0 && image_.depth[q] * scale < depth && consider(q)) return true;
       }
+    if (any_behind()) return true;
+  }
   if (radius == dense || !sparse_ring) return false;
   // Beyond the dense radius a nearer point counts only where it stands alone: no other drawn
   // point in its 3x3 is nearer than this one by the margin (mark_alone; alone_depth_ is +inf
@@ -685,9 +706,9 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
     for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius); ++qx) {
       if (std::max(std::abs(qx - x), std::abs(qy - y)) <= dense) continue;
       const size_t q = image_.index(qx, qy);
-      if (alone_depth_[q] * scale < depth && !(neighbour_min_depth_[q] * scale < depth) && behind(q)) return true;
+      if (alone_depth_[q] * scale < depth && !(neighbour_min_depth_[q] * scale < depth) && consider(q)) return true;
     }
-  return false;
+  return any_behind();
 }
 
 size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
