@@ -147,6 +147,7 @@ int run_render_frames(const RenderOptions& options) {
   settings.sync = options.sync;
   settings.seed = options.seed;
   settings.soft_shadow_edges = options.soft_shadow_edges;
+  if (options.sparse_occlusion_radius) settings.cache.sparse_occlusion_radius = *options.sparse_occlusion_radius;
   std::optional<render::FrameRenderer> renderer;  // reset before the ray trace that measures the speed-up
   renderer.emplace(scene, ray_scene, shader, settings);
   const double build_ms = ms_since(stage);

@@ -120,6 +120,11 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
     app.add_flag("--soft-shadow-edges", render.soft_shadow_edges,
                  "epi mode: also cut interpolation at area lights' umbral and penumbral edges, as the paper does "
                  "(off by default: it costs quality where a penumbra is a few pixels wide; docs/render.md)");
+    app.add_option("--sparse-occlusion-radius", render.sparse_occlusion_radius,
+                   "epi mode: pixels within which a nearer point standing alone hides the points behind it (a near "
+                   "surface magnified by motion is sampled sparsely; docs/render.md). Default 4; 2 turns this "
+                   "off: a faster points stage, but far points may show through such surfaces")
+        ->check(CLI::Range(2, 8));
   } else {
     render.mode = "reference";  // built without the frame loop
     app.add_option("--mode", render.mode, "reference: converged, --spp samples per pixel; raytrace: 1 sample per pixel")

@@ -56,6 +56,9 @@ struct RenderOptions {
   std::string frames_out;      // printf-style pattern for every frame's image, e.g. out/f%04d.png
   std::string save_epi;        // mode epi: the last frame's EPI snapshot (io/snapshot), empty: none
   bool soft_shadow_edges = false;  // epi mode: the paper's umbral and penumbral edges (render.md, "Soft-shadow edges")
+  // epi mode: how far a lone nearer point hides what lies behind it (PointCacheSettings; render.md,
+  // "Sparse near surfaces"); 2, the dense radius, turns the sparse rule off. Unset: the renderer's.
+  std::optional<int> sparse_occlusion_radius;
   std::string reference;       // image to compare the written frame with (all modes); empty: none
   bool speedup = true;         // epi, rendercache: time a 1-spp ray trace of the last view
 };

@@ -162,6 +162,26 @@ TEST(FramesCli, BadInputFailsWithOneLineAndNoOutput) {
   fs::remove_all(dir);
 }
 
+// The sparse occlusion rule as a user's speed/accuracy knob: unset is the renderer's default (4),
+// 2 turns the rule off and changes what a walk into rooms shows, out of range is refused.
+TEST(FramesCli, SparseOcclusionRadiusIsAKnobWithTheRenderersDefault) {
+  const fs::path dir = temp_dir();
+  const std::string base = "render " + std::string(EPI_SOURCE_DIR) +
+                           "/scenes/rooms.gltf --sync --size 64x48 --frames 20 --quiet --no-speedup";
+  for (const auto& [args, name] : {std::pair{"", "default.exr"}, {" --sparse-occlusion-radius 4", "four.exr"},
+                                   {" --sparse-occlusion-radius 2", "off.exr"}}) {
+    const EpiRun run = run_epi(base + args + " -o " + (dir / name).string());
+    ASSERT_EQ(run.exit_code, 0) << run.out;
+  }
+  EXPECT_EQ(read_file(dir / "default.exr"), read_file(dir / "four.exr"));
+  EXPECT_NE(read_file(dir / "default.exr"), read_file(dir / "off.exr"));
+  const EpiRun bad = run_epi(base + " --sparse-occlusion-radius 1 -o " + (dir / "bad.exr").string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("--sparse-occlusion-radius"), std::string::npos) << bad.out;
+  EXPECT_FALSE(fs::exists(dir / "bad.exr"));
+  fs::remove_all(dir);
+}
+
 TEST(FramesCli, EveryFrameNameIsCheckedBeforeAnyWork) {
   // Middle frames, not only the first and last: one named like -o, one in a missing folder.
   const fs::path dir = temp_dir();
