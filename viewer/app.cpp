@@ -136,6 +136,7 @@ class Viewer {
     s.frame.sync = options.render.sync;
     s.frame.seed = options.render.seed;
     s.frame.soft_shadow_edges = options.render.soft_shadow_edges;
+    if (options.render.sparse_occlusion_radius) s.frame.cache.sparse_occlusion_radius = *options.render.sparse_occlusion_radius;
     s.shader = cli::shader_settings(options.render);
     s.reference_spp = options.render.spp;
     s.threads = options.render.threads;

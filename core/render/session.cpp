@@ -52,7 +52,8 @@ bool same_frame_settings(const FrameSettings& a, const FrameSettings& b) {
          a.sync == b.sync && a.seed == b.seed && a.antialias == b.antialias && a.complex_filter == b.complex_filter &&
          a.stage_timings == b.stage_timings && a.shader_threads == b.shader_threads && a.view_edges == b.view_edges &&
          a.shadow_edges == b.shadow_edges && a.soft_shadow_edges == b.soft_shadow_edges &&
-         a.occlusion_culling == b.occlusion_culling && a.occlusion_test == b.occlusion_test && a.fill_holes == b.fill_holes;
+         a.occlusion_culling == b.occlusion_culling && a.occlusion_test == b.occlusion_test && a.fill_holes == b.fill_holes &&
+         a.cache.sparse_occlusion_radius == b.cache.sparse_occlusion_radius;
 }
 
 View make_view(const Camera& camera, int width, int height) {

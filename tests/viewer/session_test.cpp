@@ -77,6 +77,20 @@ TEST(Session, SyncFramesAreTheFrameRenderersFrames) {
   }
 }
 
+// A setting the frame loop is built with (here the sparse occlusion radius, which `epi-viewer
+// --sparse-occlusion-radius` sets, and soft shadow edges, which the panel toggles) rebuilds it;
+// the same settings do not.
+TEST(Session, AChangedFrameSettingRebuildsTheLoop) {
+  const SessionSettings base;
+  EXPECT_FALSE(base.needs_rebuild(base));
+  SessionSettings radius = base;
+  radius.frame.cache.sparse_occlusion_radius = 2;
+  EXPECT_TRUE(base.needs_rebuild(radius));
+  SessionSettings soft = base;
+  soft.frame.soft_shadow_edges = !soft.frame.soft_shadow_edges;
+  EXPECT_TRUE(base.needs_rebuild(soft));
+}
+
 TEST(Session, EveryStageViewIsNonEmptyAndDistinct) {
   const Scene scene = test::plane_and_box();
   SessionInput in = small_input(scene, SessionMode::epi, true);
