@@ -23,6 +23,24 @@ bool crosses(glm::dvec2 a, glm::dvec2 b, const Segment& s) {
   return t >= 0.0 && t <= 1.0 && u >= 0.0 && u <= 1.0;
 }
 
+// The occlusion tests' view: looking down -z from z = 10 at planes z = const.
+ViewFrame planes_view(int w, int h) {
+  View view;
+  view.camera.eye = {0, 0, 10}, view.camera.target = {0, 0, 0}, view.camera.up = {0, 1, 0};
+  view.camera.yfov_degrees = 40.0f, view.width = w, view.height = h;
+  return ViewFrame(view);
+}
+
+// A grey hit of the plane z = plane_z (normal +z) seen at pixel position (px, py).
+ShadeResult plane_hit(const ViewFrame& frame, float px, float py, float plane_z, uint32_t object) {
+  const Ray ray = frame.ray(px, py);
+  ShadeResult r;
+  r.x = px, r.y = py, r.hit = true, r.object = object;
+  r.position = ray.origin + (plane_z - ray.origin.z) / ray.direction.z * ray.direction;
+  r.normal = {0, 0, 1}, r.color = glm::vec3(0.5f);
+  return r;
+}
+
 TEST(EdgeCrossings, AgreesWithTestingEveryBarrierPiece) {
   std::mt19937 rng(7);
   const int w = 97, h = 61;
@@ -75,19 +93,8 @@ TEST(EdgeCrossings, ExtremesOnGridLinesEndpointsHugeAndEmpty) {
 // pixel the silhouette crosses; those beyond it are not, also inside that pixel.
 TEST(PointCache, TheOcclusionTestActsInsidePixelsAnEdgeCrossesOnTheNearSideOnly) {
   const int w = 16, h = 8;
-  Camera camera;
-  camera.eye = {0, 0, 10}, camera.target = {0, 0, 0}, camera.up = {0, 1, 0}, camera.yfov_degrees = 40.0f;
-  View view;
-  view.camera = camera, view.width = w, view.height = h;
-  const ViewFrame frame(view);
-  auto hit = [&](float px, float py, float plane_z, uint32_t object) {
-    const Ray ray = frame.ray(px, py);
-    ShadeResult r;
-    r.x = px, r.y = py, r.hit = true, r.object = object;
-    r.position = ray.origin + (plane_z - ray.origin.z) / ray.direction.z * ray.direction;
-    r.normal = {0, 0, 1}, r.color = glm::vec3(0.5f);
-    return r;
-  };
+  const ViewFrame frame = planes_view(w, h);
+  auto hit = [&](float px, float py, float plane_z, uint32_t object) { return plane_hit(frame, px, py, plane_z, object); };
   ShadeBatch far, near;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) far.results.push_back(hit(float(x) + (x == 7 && y % 2 ? 0.9f : 0.5f), float(y) + 0.5f, -5.0f, 0));
@@ -124,19 +131,8 @@ TEST(PointCache, TheOcclusionTestActsInsidePixelsAnEdgeCrossesOnTheNearSideOnly)
 // beyond its last column: a point with near neighbours is no lone sample of a sparse surface.
 TEST(PointCache, FarPointsBetweenTheSamplesOfASparseNearSurfaceAreHidden) {
   const int w = 24, h = 14;
-  Camera camera;
-  camera.eye = {0, 0, 10}, camera.target = {0, 0, 0}, camera.up = {0, 1, 0}, camera.yfov_degrees = 40.0f;
-  View view;
-  view.camera = camera, view.width = w, view.height = h;
-  const ViewFrame frame(view);
-  auto hit = [&](float px, float py, float plane_z, uint32_t object) {
-    const Ray ray = frame.ray(px, py);
-    ShadeResult r;
-    r.x = px, r.y = py, r.hit = true, r.object = object;
-    r.position = ray.origin + (plane_z - ray.origin.z) / ray.direction.z * ray.direction;
-    r.normal = {0, 0, 1}, r.color = glm::vec3(0.5f);
-    return r;
-  };
+  const ViewFrame frame = planes_view(w, h);
+  auto hit = [&](float px, float py, float plane_z, uint32_t object) { return plane_hit(frame, px, py, plane_z, object); };
   ShadeBatch far, near;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) far.results.push_back(hit(float(x) + 0.5f, float(y) + 0.5f, -5.0f, 0));
