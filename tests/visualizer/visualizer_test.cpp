@@ -203,21 +203,25 @@ TEST(Snapshot, PatternRoundTripIsExact) {
   EXPECT_TRUE(is_snapshot_file(file.string()));
 }
 
+// The frame loop's settings of the snapshot tests: epi mode, 64x48, sync, seed 3.
+render::FrameSettings snapshot_frame_settings(double sample_budget) {
+  render::FrameSettings settings;
+  settings.mode = render::RenderMode::epi, settings.width = 64, settings.height = 48;
+  settings.sample_budget = sample_budget, settings.sync = true, settings.seed = 3;
+  return settings;
+}
+
 TEST(Snapshot, RenderedFrameRoundTripGivesTheFrameExactly) {
   const Scene scene = test::plane_and_box();
   RayScene ray_scene(scene);
   const Shader shader(ray_scene, ShaderSettings{});
-  render::FrameSettings settings;
-  settings.mode = render::RenderMode::epi, settings.width = 64, settings.height = 48, settings.sample_budget = 0.08;
-  settings.sync = true, settings.seed = 3;
+  render::FrameSettings settings = snapshot_frame_settings(0.08);
   settings.fill_holes = false;  // the frame loop's hole filling comes after the EPI (core/render), not in it
   render::FrameRenderer renderer(scene, ray_scene, shader, settings);
   const RgbImage* frame = nullptr;
   for (int k = 0; k < 4; ++k) frame = &renderer.render(scene.cameras[0]);
-  ReconstructSettings rs;
-  rs.antialias = settings.antialias, rs.complex_filter = settings.complex_filter;
   const fs::path file = temp_dir("frame") += ".epis";
-  save_snapshot({renderer.epi(), renderer.masks(), renderer.segments(), rs}, file.string());
+  save_snapshot({renderer.epi(), renderer.masks(), renderer.segments(), renderer.reconstruct_settings()}, file.string());
   const Snapshot back = load_snapshot(file.string());
   EpiImage epi = back.epi;
   const Reconstruction r = reconstruct_oracle(epi, back.masks, back.settings);
@@ -238,9 +242,7 @@ TEST(Snapshot, RenderedFrameWithHoleFillCarriesTheRenderersReconstructSettings) 
   const Scene scene = test::plane_and_box();
   RayScene ray_scene(scene);
   const Shader shader(ray_scene, ShaderSettings{});
-  render::FrameSettings settings;
-  settings.mode = render::RenderMode::epi, settings.width = 64, settings.height = 48, settings.sample_budget = 0.02;
-  settings.sync = true, settings.seed = 3;
+  const render::FrameSettings settings = snapshot_frame_settings(0.02);
   ASSERT_TRUE(settings.fill_holes);
   render::FrameRenderer renderer(scene, ray_scene, shader, settings);
   const RgbImage* frame = nullptr;
