@@ -22,11 +22,10 @@ size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<con
   std::vector<uint32_t> &front = scratch.front, &next = scratch.next, &ring = scratch.ring, &last = scratch.last;
   std::vector<uint32_t>& hole_list = scratch.holes;
   state.resize(n), front.clear(), last.clear(), hole_list.clear();
-  for (size_t i = 0; i < n; ++i) state[i] = uint8_t((holes[i] != 0) * (1 + (barrier[i] != 0)));
   for (size_t i = 0; i < n; i += 64) {  // 64 pixels at a time: most such chunks hold no hole
     const size_t end = std::min(n, i + 64);
     uint8_t any = 0;
-    for (size_t k = i; k < end; ++k) any |= state[k];
+    for (size_t k = i; k < end; ++k) state[k] = uint8_t((holes[k] != 0) * (1 + (barrier[k] != 0))), any |= state[k];
     if (any)
       for (size_t k = i; k < end; ++k)
         if (state[k]) hole_list.push_back(uint32_t(k));
