@@ -5,21 +5,18 @@
 # the same run, one after the other, so their ratios are comparable.
 #   bench/scaling_run.sh OUT_DIR LABEL=BUNDLE.tar.xz [LABEL=BUNDLE.tar.xz ...]
 # Environment (defaults in brackets):
-#   SCALING_CORES         core counts for the frame loop [1 2 4 ... up to nproc]
 #   SCALING_RECONSTRUCT   epi_bench filter [1080p and 4K, tiled stream, best target, all threads]
-#   SCALING_FRAME         render_bench filter run at each core count [cornell_box and rooms, 1080p]
+#   SCALING_FRAME         render_bench filter [BM_FrameThreads: every scene at 1080p, the loop held
+#                         to 1, 2, 4, ... threads up to the cores by a task arena]
 #   SCALING_TABLE2        render_bench filter run on 2 cores, the paper's table 2 [every scene, 512²]
-# The frame loop's thread count is the affinity mask's size (taskset): TBB sizes its arena from it.
+# Any of them "none" skips that part.
 set -euo pipefail
 [ $# -ge 2 ] || { echo "usage: $0 OUT_DIR LABEL=BUNDLE.tar.xz [...]" >&2; exit 2; }
 out=$1; shift
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 mkdir -p "$out"
-cores_default=""
-for ((c = 1; c <= $(nproc); c *= 2)); do cores_default+="$c "; done
-cores=${SCALING_CORES:-$cores_default}
 reconstruct=${SCALING_RECONSTRUCT:-'BM_StreamingFloor/(1920|3840)|BM_Reconstruct/(1920/1080|3840/2160)/1/'}
-frame=${SCALING_FRAME:-'BM_Frame/(0|2)/1920/1080/2/'}
+frame=${SCALING_FRAME:-'BM_FrameThreads/[0-4]/1920/1080/'}
 table2=${SCALING_TABLE2:-'BM_Frame/[0-4]/512/512/2/'}
 json=(--benchmark_out_format=json)
 for spec in "$@"; do
@@ -33,13 +30,12 @@ for spec in "$@"; do
     mkdir -p "$(dirname "$src")" && ln -sfn "$root" "$src" || { echo "$0: cannot link $src to $root (the scenes)" >&2; exit 1; }
   fi
   export LD_LIBRARY_PATH=$b/lib
+  if [ "$frame" != none ]; then
+    echo "== $label: frame loop on 1, 2, 4, ... threads"
+    "$b/render_bench" --benchmark_filter="$frame" --benchmark_out="$out/${label}_frame.json" "${json[@]}" 2>&1 | grep -E "^BM_" | cut -c1-160
+  fi
   echo "== $label: reconstruction"
   [ "$reconstruct" = none ] || "$b/epi_bench" --benchmark_filter="$reconstruct" --benchmark_out="$out/${label}_reconstruct.json" "${json[@]}" 2>&1 | grep -E "^BM_"
-  for c in $cores; do
-    [ "$frame" = none ] && break
-    echo "== $label: frame loop on $c cores"
-    taskset -c "0-$((c - 1))" "$b/render_bench" --benchmark_filter="$frame" --benchmark_out="$out/${label}_frame_c$c.json" "${json[@]}" 2>&1 | grep -E "^BM_" | cut -c1-160
-  done
   if [ "$table2" != none ]; then
     echo "== $label: table 2 on 2 cores"
     taskset -c 0-1 "$b/render_bench" --benchmark_filter="$table2" --benchmark_out="$out/${label}_table2.json" "${json[@]}" 2>&1 | grep -E "^BM_" | cut -c1-160

@@ -7,11 +7,14 @@ Inputs, each given as LABEL=FILE (LABEL names the build, e.g. the commit, so tha
 measured in one run sit side by side):
   --reconstruct LABEL=FILE   epi_bench JSON with the BM_Reconstruct rows of the tiled stream on
                              1, 2, 4, ... threads (ReconstructArgs adds them up to the cores).
-  --frame LABEL@CORES=FILE   render_bench JSON of BM_Frame run under `taskset -c 0-(CORES-1)`:
-                             TBB sizes its arena from the affinity mask, so CORES is the thread count.
+  --frame LABEL=FILE         render_bench JSON of BM_FrameThreads (the loop held to 1, 2, 4, ...
+                             threads by a task arena, the thread count the last argument).
+  --frame LABEL@CORES=FILE   render_bench JSON of BM_Frame run under `taskset -c 0-(CORES-1)`
+                             (how earlier runs held the loop: TBB sizes its arena from the affinity
+                             mask, so CORES is the thread count).
 
   --dir DIR                  everything bench/scaling_run.sh wrote there (LABEL_reconstruct.json,
-                             LABEL_frame_cCORES.json).
+                             LABEL_frame.json, LABEL_frame_cCORES.json).
 
   /usr/bin/python3 bench/scaling_tables.py --dir scaling --chart docs/images/scaling.png
 """
@@ -60,11 +63,16 @@ def reconstruct_rows(label, path):
 
 
 def frame_rows(label, cores, path):
-    """(label, scene, size, cores) -> (loop ms, counters) for BM_Frame mode 2 (the tiled path)."""
+    """(label, scene, size, threads) -> (loop ms, counters) for the tiled path: BM_FrameThreads, or
+    BM_Frame mode 2 run on `cores` cores (cores None: BM_FrameThreads only)."""
     rows = {}
     for name, b in best(load(path)["benchmarks"]).items():
-        m = re.match(r"BM_Frame/(\d)/(\d+)/(\d+)/2$", name)
+        m = re.match(r"BM_FrameThreads/(\d)/(\d+)/(\d+)/(\d+)$", name)
         if m:
+            scene, w, h, threads = map(int, m.groups())
+            rows[(label, SCENES[scene], (w, h), threads)] = (b["loop_ms"], b)
+        m = re.match(r"BM_Frame/(\d)/(\d+)/(\d+)/2$", name)
+        if m and cores:
             scene, w, h = map(int, m.groups())
             rows[(label, SCENES[scene], (w, h), cores)] = (b["loop_ms"], b)
     return rows
@@ -75,10 +83,10 @@ def spec(text, with_cores):
     if not path:
         sys.exit(f"scaling_tables.py: '{text}' is not LABEL=FILE")
     if with_cores:
-        label, _, cores = label.partition("@")
-        if not cores.isdigit():
+        label, at, cores = label.partition("@")
+        if at and not cores.isdigit():
             sys.exit(f"scaling_tables.py: '{text}' is not LABEL@CORES=FILE")
-        return label, int(cores), path
+        return label, int(cores) if at else None, path
     return label, path
 
 
@@ -91,9 +99,11 @@ def main():
     args = ap.parse_args()
     if args.dir:
         for path in sorted(glob.glob(os.path.join(args.dir, "*.json"))):
-            m = re.match(r"(.+)_(reconstruct|frame_c(\d+))\.json$", os.path.basename(path))
+            m = re.match(r"(.+)_(reconstruct|frame|frame_c(\d+))\.json$", os.path.basename(path))
             if m and m.group(2) == "reconstruct":
                 args.reconstruct.append(f"{m.group(1)}={path}")
+            elif m and m.group(2) == "frame":
+                args.frame.append(f"{m.group(1)}={path}")
             elif m:
                 args.frame.append(f"{m.group(1)}@{m.group(3)}={path}")
     recon, frames = {}, {}
@@ -119,9 +129,9 @@ def main():
         print()
     if frames:
         all_cores = sorted({k[3] for k in frames})
-        print("An EPI frame along the scene's path (render_bench BM_Frame, tiled reconstruction, shading excluded), loop ms and speed-up over the fewest cores measured:\n")
-        print("| build | scene | size | " + " | ".join(f"{c} cores" for c in all_cores) + " | points / sampling / interp ms at the most cores |")
-        print("|---|---|---|" + "---|" * (len(all_cores) + 1))
+        print("An EPI frame along the scene's path (render_bench BM_FrameThreads, or BM_Frame under taskset; tiled reconstruction, shading excluded), loop ms and speed-up over the fewest threads measured:\n")
+        print("| build | scene | size | " + " | ".join(f"{c} T" for c in all_cores) + " |")
+        print("|---|---|---|" + "---|" * len(all_cores))
         for label, scene, size in sorted({k[:3] for k in frames}):
             cs = sorted(c for (l, sc, s, c) in frames if (l, sc, s) == (label, scene, size))
             first = frames[(label, scene, size, cs[0])][0]
@@ -129,31 +139,49 @@ def main():
             for c in all_cores:
                 v = frames.get((label, scene, size, c))
                 cells.append("" if v is None else f"{v[0]:.1f} ({first / v[0]:.1f}x)")
-            top = frames[(label, scene, size, cs[-1])][1]
-            stages = " / ".join(f"{top.get(k, 0):.1f}" for k in ("points_ms", "sampling_ms", "interpolate_ms"))
-            print(f"| {label} | {scene} | {SIZES.get(size, size)} | " + " | ".join(cells) + f" | {stages} |")
+            print(f"| {label} | {scene} | {SIZES.get(size, size)} | " + " | ".join(cells) + " |")
             series.append((f"frame {SIZES.get(size, size)}, {scene}", label, cs, [frames[(label, scene, size, c)][0] for c in cs]))
+        print()
+        # Where the frame stops scaling: each loop stage at the fewest and the most threads.
+        stages = [("points", "points_ms"), ("sampling", "sampling_ms"), ("find + rasterize edges", "find_edges_ms+rasterize_edges_ms"),
+                  ("reconstruction", "classify_ms+reachability_ms+interpolate_ms+antialias_ms+complex_ms")]
+        print("Per stage, ms at the fewest and the most threads measured (speed-up):\n")
+        print("| build | scene | size | threads | " + " | ".join(n for n, _ in stages) + " | loop |")
+        print("|---|---|---|---|" + "---|" * (len(stages) + 1))
+        for label, scene, size in sorted({k[:3] for k in frames}):
+            cs = sorted(c for (l, sc, s, c) in frames if (l, sc, s) == (label, scene, size))
+            if len(cs) < 2:
+                continue
+            lo, hi = frames[(label, scene, size, cs[0])][1], frames[(label, scene, size, cs[-1])][1]
+            cells = []
+            for _, keys in stages + [("loop", "loop_ms")]:
+                a, b = (sum(r.get(k, 0) for k in keys.split("+")) for r in (lo, hi))
+                cells.append(f"{a:.1f} -> {b:.1f} ({a / b:.1f}x)" if b > 0 else f"{a:.1f} -> {b:.1f}")
+            print(f"| {label} | {scene} | {SIZES.get(size, size)} | {cs[0]} -> {cs[-1]} | " + " | ".join(cells) + " |")
         print()
 
     if args.chart:
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(7, 4.5))
-        top = 1
-        for title, label, xs, ms in series:
-            if len(xs) < 2:
-                continue  # one core count: no line to draw
-            speedup = [ms[0] * xs[0] / m for m in ms]  # relative to one thread, extrapolated from the first point
-            ax.plot(xs, speedup, marker="o", label=f"{label}: {title}")
-            top = max(top, max(xs))
-        ax.plot([1, top], [1, top], "k--", linewidth=0.8, label="linear")
-        ax.set_xscale("log", base=2)
-        ax.set_yscale("log", base=2)
-        ax.set_xlabel("threads (cores)")
-        ax.set_ylabel("speed-up over one thread")
-        ax.legend(fontsize=7)
-        ax.grid(True, which="both", alpha=0.3)
+        # One panel for the reconstruction alone, one for the whole frame loop.
+        fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
+        for ax, kind in zip(axes, ("reconstruction", "frame")):
+            top = 1
+            for title, label, xs, ms in series:
+                if len(xs) < 2 or not title.startswith(kind):
+                    continue  # one core count: no line to draw
+                speedup = [ms[0] * xs[0] / m for m in ms]  # relative to one thread, extrapolated from the first point
+                ax.plot(xs, speedup, marker="o", label=f"{label}: {title[len(kind):].lstrip()}")
+                top = max(top, max(xs))
+            ax.plot([1, top], [1, top], "k--", linewidth=0.8, label="linear")
+            ax.set_xscale("log", base=2)
+            ax.set_yscale("log", base=2)
+            ax.set_xlabel("threads (cores)")
+            ax.set_title("the reconstruction (epi_bench)" if kind == "reconstruction" else "the frame loop (render_bench)")
+            ax.legend(fontsize=7)
+            ax.grid(True, which="both", alpha=0.3)
+        axes[0].set_ylabel("speed-up over one thread")
         fig.tight_layout()
         fig.savefig(args.chart, dpi=110)
 

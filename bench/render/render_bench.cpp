@@ -2,7 +2,8 @@
 // frame) along the scene's camera path, frame rate and sparseness, and the speed-up of a frame over
 // a 1-sample-per-pixel raytrace frame with the same shader. Frames run in sync mode; the time
 // reported (manual time) excludes shading, which the paper runs on other processors.
-// args of BM_Frame: scene, width, height, mode; of BM_RaytraceFrame: scene, width, height, shader.
+// args of BM_Frame: scene, width, height, mode; of BM_FrameThreads: scene, width, height, loop
+// threads; of BM_RaytraceFrame: scene, width, height, shader.
 // bench/frame_tables.py turns the JSON into docs/performance.md's table 2 and its bar chart.
 #include <algorithm>
 #include <chrono>
@@ -11,6 +12,8 @@
 #include <string>
 
 #include <benchmark/benchmark.h>
+
+#include <tbb/task_arena.h>
 
 #include "load_scene.h"
 #include "render/camera_path.h"
@@ -43,13 +46,16 @@ Loaded& loaded(int index) {
 
 constexpr int kPathFrames = 120;
 
-// args: scene index, width, height, mode (0 epi, 1 rendercache, 2 epi with core/epi's tiled reconstructor)
-void BM_Frame(benchmark::State& state) {
+// Frames along the scene's path at mode (0 epi, 1 rendercache, 2 epi with core/epi's tiled
+// reconstructor). The timed frames run in a task arena of `threads` threads (0: all cores), which
+// every stage sizes its work from (the reconstructor's arena too); the warm-up uses all cores, so
+// that a 1-thread case does not spend minutes warming the cache.
+void frames(benchmark::State& state, int mode, int threads) {
   Loaded& l = loaded(int(state.range(0)));
   FrameSettings s;
   s.width = int(state.range(1)), s.height = int(state.range(2));
-  s.mode = state.range(3) == 1 ? RenderMode::rendercache : RenderMode::epi;
-  s.stage_timings = state.range(3) != 2;
+  s.mode = mode == 1 ? RenderMode::rendercache : RenderMode::epi;
+  s.stage_timings = mode != 2;
   s.sync = true;
   s.sample_budget = 0.01;
   FrameRenderer renderer(l.scene, l.ray_scene, l.shader, s);
@@ -58,11 +64,12 @@ void BM_Frame(benchmark::State& state) {
   // Warm the cache over one pass of the path, so that the timed frames see a steady state (a cloud
   // covering the image, as in the paper's runs) rather than the first sparse frames.
   for (int k = 0; k < kPathFrames; ++k) renderer.render(path.camera_at(frame++ % kPathFrames));
+  tbb::task_arena loop_arena(threads > 0 ? threads : int(tbb::task_arena::automatic));
   StageTimes sum;
   double samples = 0, simple = 0, complex = 0, edges = 0, culled = 0;
   int64_t frames = 0;
   for (auto _ : state) {
-    renderer.render(path.camera_at(frame++ % kPathFrames));
+    loop_arena.execute([&] { renderer.render(path.camera_at(frame++ % kPathFrames)); });
     const FrameStats& f = renderer.stats();
     state.SetIterationTime(f.ms.loop_ms() * 1e-3);
     for (size_t k = 0; k < sum.ms.size(); ++k) sum.ms[k] += f.ms.ms[k];
@@ -83,8 +90,16 @@ void BM_Frame(benchmark::State& state) {
   state.counters["complex_pct"] = 100.0 * complex / n / pixels;
   state.counters["edges"] = edges / n;
   state.counters["culled"] = culled / n;
+  state.counters["loop_threads"] = renderer.stats().loop_threads;
   state.SetLabel(kScenes[state.range(0)]);
 }
+
+// args: scene index, width, height, mode.
+void BM_Frame(benchmark::State& state) { frames(state, int(state.range(3)), 0); }
+
+// The frame loop's scaling past two cores (docs/performance.md, bench/scaling_run.sh): the tiled
+// path (mode 2) with the loop held to a thread count. args: scene index, width, height, threads.
+void BM_FrameThreads(benchmark::State& state) { frames(state, 2, int(state.range(3))); }
 
 // The asynchronous loop and shader sharing the cores (FrameSettings::core_split; docs/render.md,
 // "Cores"): frames back to back along the path, as in the viewer without vsync. args: scene,
@@ -149,6 +164,13 @@ void raytrace_args(benchmark::internal::Benchmark* b) {
       for (int shader : {0, 1}) b->Args({scene, w, h, shader});
 }
 
+// 1, 2, 4, ... threads up to the cores, every scene at 1080p.
+void thread_args(benchmark::internal::Benchmark* b) {
+  const int cores = std::max(1, tbb::this_task_arena::max_concurrency());
+  for (int scene = 0; scene < 5; ++scene)
+    for (int t = 1; t <= cores; t *= 2) b->Args({scene, 1920, 1080, t});
+}
+
 void async_args(benchmark::internal::Benchmark* b) {
   for (int scene = 0; scene < 5; ++scene)
     for (int shader : {0, 1})
@@ -157,6 +179,7 @@ void async_args(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_AsyncLoop)->Apply(async_args)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(3.0);
 BENCHMARK(BM_Frame)->Apply(frame_args)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(1.0);
+BENCHMARK(BM_FrameThreads)->Apply(thread_args)->UseManualTime()->Unit(benchmark::kMillisecond)->MinTime(1.0);
 // A gi frame at 1080p takes seconds: its first iteration passes MinTime and is the figure.
 BENCHMARK(BM_RaytraceFrame)->Apply(raytrace_args)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 
