@@ -108,6 +108,9 @@ uint8_t encode_epi_color8_by_steps(float linear) {
 
 PointCache::PointCache(int width, int height, const PointCacheSettings& settings) : settings_(settings) {
   if (width <= 0 || height <= 0) throw std::invalid_argument("point cache: image size is not positive");
+  if (settings.occlusion_radius > kMaxOcclusionRadius || settings.sparse_occlusion_radius > kMaxOcclusionRadius)
+    throw std::invalid_argument("point cache: occlusion radius above 15");
+  static_assert(kMaxOcclusionRadius == 15, "the message above names the limit");
   const double capacity = std::ceil(double(width) * double(height) * std::max(1.0, settings.capacity_factor));
   if (capacity > double(kIndexMask)) throw std::invalid_argument("point cache: image too large");
   points_.resize(size_t(capacity));
@@ -690,24 +693,38 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
     listed[count++] = uint32_t(q);
     return count == kListed && any_behind();
   };
+  // Each window row is tested in one branch-free pass into a bit mask (bit k: column x0 + k),
+  // then its set bits are considered in ascending order: the same points in the same order as a
+  // pixel-by-pixel scan, without a branch per pixel (most of a window holds no nearer point).
+  auto scan_row = [&](int qy, int x0, int x1, uint32_t skip, auto&& nearer) {
+    const size_t q0 = image_.index(x0, qy);
+    uint32_t bits = 0;
+    for (int k = 0; k <= x1 - x0; ++k) bits |= uint32_t(nearer(q0 + size_t(k))) << k;
+    for (bits &= ~skip; bits != 0; bits &= bits - 1)
+      if (consider(q0 + size_t(std::countr_zero(bits)))) return true;
+    return false;
+  };
+  const int32_t* point = image_.point.data();
+  const float* depths = image_.depth.data();
   if (dense_window) {
+    const int x0 = std::max(0, x - dense), x1 = std::min(w - 1, x + dense);
     for (int qy = std::max(0, y - dense); qy <= std::min(h - 1, y + dense); ++qy)
-      for (int qx = std::max(0, x - dense); qx <= std::min(w - 1, x + dense); ++qx) {
-        const size_t q = image_.index(qx, qy);
-        if (image_.point[q] >= 0 && image_.depth[q] * scale < depth && consider(q)) return true;
-      }
+      if (scan_row(qy, x0, x1, 0, [&](size_t q) { return (point[q] >= 0) & (depths[q] * scale < depth); })) return true;
     if (any_behind()) return true;
   }
   if (radius == dense || !sparse_ring) return false;
   // Beyond the dense radius a nearer point counts only where it stands alone: no other drawn
   // point in its 3x3 is nearer than this one by the margin (mark_alone; alone_depth_ is +inf
   // where no point is, or none that could stand alone).
+  const float *alone = alone_depth_.data(), *neighbour_min = neighbour_min_depth_.data();
+  const int x0 = std::max(0, x - radius), x1 = std::min(w - 1, x + radius);
+  // The dense window's columns, skipped in its rows (tested above, or not wanted).
+  uint32_t inner = 0;
+  for (int qx = std::max(x0, x - dense); qx <= std::min(x1, x + dense); ++qx) inner |= uint32_t(1) << (qx - x0);
   for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius); ++qy)
-    for (int qx = std::max(0, x - radius); qx <= std::min(w - 1, x + radius); ++qx) {
-      if (std::max(std::abs(qx - x), std::abs(qy - y)) <= dense) continue;
-      const size_t q = image_.index(qx, qy);
-      if (alone_depth_[q] * scale < depth && !(neighbour_min_depth_[q] * scale < depth) && consider(q)) return true;
-    }
+    if (scan_row(qy, x0, x1, std::abs(qy - y) <= dense ? inner : 0,
+                 [&](size_t q) { return (alone[q] * scale < depth) & !(neighbour_min[q] * scale < depth); }))
+      return true;
   return any_behind();
 }
 

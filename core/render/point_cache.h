@@ -25,6 +25,9 @@ namespace epi::render {
 // libm): x + 1/2 is exact in double, and trunc rounds it towards zero.
 inline double round_half_away(float x) { return std::trunc(double(x) + std::copysign(0.5, double(x))); }
 
+// The occlusion test scans a window row as one 32-bit mask: radii above this are refused.
+inline constexpr int kMaxOcclusionRadius = 15;
+
 struct PointCacheSettings {
   double capacity_factor = 1.15;   // cloud size as a multiple of the pixel count
   int max_age = 240;               // points older than this are not drawn (and their slot is freed)
@@ -37,7 +40,7 @@ struct PointCacheSettings {
   // (relative depth) behind the tangent plane of a nearer drawn point within `occlusion_radius`
   // pixels, with no geometric edge between them, is hidden.
   float occlusion_margin = 0.02f;
-  int occlusion_radius = 2;
+  int occlusion_radius = 2;  // at most kMaxOcclusionRadius, as sparse_occlusion_radius
   // ... and up to `sparse_occlusion_radius` pixels, a nearer point that stands alone (no other
   // drawn point in its 3x3 is nearer than the tested one by the margin): a near surface sampled
   // more sparsely than occlusion_radius, as one magnified by the camera's motion, hides what lies

@@ -139,7 +139,8 @@ TEST(PointCache, FarPointsBetweenTheSamplesOfASparseNearSurfaceAreHidden) {
   for (int y = 1; y < h; y += 6)
     for (int x = 1; x < w; x += 6) near.results.push_back(hit(float(x) + 0.5f, float(y) + 0.5f, 1.0f, 1));
   const std::vector<glm::mat4> identity(2, glm::mat4(1.0f));
-  for (const int sparse_radius : {0, 4}) {
+  // 15: the largest radius (a 31-pixel window row, one 32-bit mask, wider than the image).
+  for (const int sparse_radius : {0, 4, 8, kMaxOcclusionRadius}) {
     PointCacheSettings settings;
     settings.sparse_occlusion_radius = sparse_radius;
     PointCache cache(w, h, settings);
@@ -154,13 +155,54 @@ TEST(PointCache, FarPointsBetweenTheSamplesOfASparseNearSurfaceAreHidden) {
     size_t near_drawn = 0, far_drawn = 0;
     for (size_t i = 0; i < image.point.size(); ++i)
       if (image.point[i] >= 0) (cache.points()[size_t(image.point[i])].object == 1 ? near_drawn : far_drawn) += 1;
-    EXPECT_EQ(near_drawn, near.results.size());
+    EXPECT_EQ(near_drawn, near.results.size()) << sparse_radius;
     if (sparse_radius == 0) {
       EXPECT_GT(far_drawn, 100u);  // 3 or 4 pixels from every near point
     } else {
-      EXPECT_EQ(far_drawn, 0u);
+      EXPECT_EQ(far_drawn, 0u) << sparse_radius;
     }
   }
+  PointCacheSettings too_wide;
+  too_wide.sparse_occlusion_radius = kMaxOcclusionRadius + 1;
+  EXPECT_THROW(PointCache(w, h, too_wide), std::invalid_argument);
+  too_wide = {};
+  too_wide.occlusion_radius = kMaxOcclusionRadius + 1;
+  EXPECT_THROW(PointCache(w, h, too_wide), std::invalid_argument);
+}
+
+// One lone near point over a dense far plane: the far points it hides are exactly those within
+// sparse_occlusion_radius of it (Chebyshev distance; its tangent plane is parallel to the far
+// plane), for every radius up to the largest, with the window whole or cut by the image's border.
+TEST(PointCache, ALoneNearPointHidesTheFarPointsWithinTheSparseRadius) {
+  const int w = 40, h = 34;
+  const ViewFrame frame = planes_view(w, h);
+  ShadeBatch far;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) far.results.push_back(plane_hit(frame, float(x) + 0.5f, float(y) + 0.5f, -5.0f, 0));
+  const std::vector<glm::mat4> identity(2, glm::mat4(1.0f));
+  for (const auto [nx, ny] : {std::pair{20, 17}, std::pair{1, 2}, std::pair{w - 1, h - 3}})
+    for (const int radius : {3, 4, 8, 13, kMaxOcclusionRadius}) {
+      PointCacheSettings settings;
+      settings.sparse_occlusion_radius = radius;
+      PointCache cache(w, h, settings);
+      cache.insert(frame, far, identity);
+      cache.project(frame, identity, false);
+      ShadeBatch near;
+      near.results.push_back(plane_hit(frame, float(nx) + 0.5f, float(ny) + 0.5f, 1.0f, 1));
+      cache.insert(frame, near, identity);
+      cache.project(frame, identity, false);
+      EdgeCrossings none;
+      none.build({}, {}, w, h);
+      cache.cull_behind_surfaces(frame, identity, none);
+      const PointImage& image = cache.image();
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          if (x == nx && y == ny) continue;  // the near point itself
+          const bool within = std::max(std::abs(x - nx), std::abs(y - ny)) <= radius;
+          ASSERT_EQ(image.point[image.index(x, y)] < 0, within) << "near point " << nx << "," << ny << ", radius "
+                                                                << radius << ", far point " << x << "," << y;
+        }
+    }
 }
 
 }  // namespace
