@@ -1,5 +1,6 @@
 #include "render/point_cache.h"
 
+#include "render/depth_windows.h"
 #include "render/point_cache_detail.h"
 #include "render/point_projection.h"
 
@@ -762,24 +763,13 @@ bool PointCache::mark_alone() {
   const size_t n = image_.point.size();
   if (settings_.sparse_occlusion_radius <= std::max(1, settings_.occlusion_radius)) return false;
   neighbour_min_depth_.resize(n), alone_depth_.resize(n);
-  constexpr float kInf = std::numeric_limits<float>::infinity();  // also the depth of an empty pixel
+  // A point can stand alone for some farther point only if it is nearer than all the other points
+  // of its 3x3 (empty pixels: +inf either way).
   tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y != rows.end(); ++y) {
-      const float* row = &image_.depth[image_.index(0, y)];
-      const float* above = y > 0 ? &image_.depth[image_.index(0, y - 1)] : nullptr;
-      const float* below = y + 1 < h ? &image_.depth[image_.index(0, y + 1)] : nullptr;
-      float* least = &neighbour_min_depth_[image_.index(0, y)];
-      // The other pixels of the 3x3: left and right in the row, three above and three below.
-      for (int x = 0; x < w; ++x) least[x] = std::min(x > 0 ? row[x - 1] : kInf, x + 1 < w ? row[x + 1] : kInf);
-      for (const float* r : {above, below}) {
-        if (!r) continue;
-        for (int x = 0; x < w; ++x)
-          least[x] = std::min(least[x], std::min(r[x], std::min(x > 0 ? r[x - 1] : kInf, x + 1 < w ? r[x + 1] : kInf)));
-      }
-      // A point can stand alone for some farther point only if it is nearer than all its neighbours.
-      float* alone = &alone_depth_[image_.index(0, y)];
-      for (int x = 0; x < w; ++x) alone[x] = least[x] > row[x] ? row[x] : kInf;  // empty pixels: +inf either way
-    }
+    for (int y = rows.begin(); y != rows.end(); ++y)
+      lone_depths(y > 0 ? &image_.depth[image_.index(0, y - 1)] : nullptr, &image_.depth[image_.index(0, y)],
+                  y + 1 < h ? &image_.depth[image_.index(0, y + 1)] : nullptr, &neighbour_min_depth_[image_.index(0, y)],
+                  &alone_depth_[image_.index(0, y)], w);
   });
   return true;
 }
@@ -788,29 +778,26 @@ void PointCache::window_min_depth(int radius) { window_min(image_.depth, radius,
 
 void PointCache::window_min(const std::vector<float>& depth, int radius, std::vector<float>& min_depth) {
   const int w = image_.width, h = image_.height;
-  row_min_depth_.resize(depth.size());
   min_depth.resize(depth.size());
-  tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
-    // The minimum of the row shifted by -r..r, one shift at a time (vectorizable loops; the
-    // minimum of depths, never NaN, does not depend on the order).
-    for (int y = rows.begin(); y != rows.end(); ++y) {
-      const float* in = &depth[image_.index(0, y)];
-      float* out = &row_min_depth_[image_.index(0, y)];
-      std::copy(in, in + w, out);
-      for (int d = 1; d <= radius && d < w; ++d) {
-        for (int x = d; x < w; ++x) out[x] = std::min(out[x], in[x - d]);
-        for (int x = 0; x + d < w; ++x) out[x] = std::min(out[x], in[x + d]);
-      }
-    }
-  });
-  tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y != rows.end(); ++y) {
-      float* out = &min_depth[image_.index(0, y)];
-      std::fill(out, out + w, std::numeric_limits<float>::infinity());
-      for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius); ++qy) {
-        const float* in = &row_min_depth_[image_.index(0, qy)];
-        for (int x = 0; x < w; ++x) out[x] = std::min(out[x], in[x]);
-      }
+  // Bands of rows in parallel, each keeping the row minima of the 2r + 1 rows its current output
+  // row reads in a ring of its own (cache-resident: no image-sized intermediate goes through
+  // memory); a band recomputes the r rows beyond each of its ends. The minimum of depths, never
+  // NaN, does not depend on the order, so the result is that of any other order.
+  constexpr int kRows = 32;
+  const int span = 2 * radius + 1;
+  min_rings_.resize(size_t((h + kRows - 1) / kRows));
+  tbb::parallel_for(0, int(min_rings_.size()), [&](int band) {
+    std::vector<float>& ring = min_rings_[size_t(band)];
+    ring.resize(size_t(span) * size_t(w));
+    auto ring_row = [&](int y) { return ring.data() + size_t(y % span) * size_t(w); };
+    const int y0 = band * kRows, y1 = std::min(h, y0 + kRows);
+    int next = std::max(0, y0 - radius);  // the next row to take into the ring
+    for (int y = y0; y < y1; ++y) {
+      for (; next <= std::min(h - 1, y + radius); ++next) row_window_min(&depth[image_.index(0, next)], ring_row(next), w, radius);
+      const float* rows[2 * kMaxOcclusionRadius + 1];
+      int count = 0;
+      for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius); ++qy) rows[count++] = ring_row(qy);
+      rows_min(rows, count, &min_depth[image_.index(0, y)], w);
     }
   });
 }

@@ -328,7 +328,8 @@ class PointCache {
   std::vector<uint16_t> pixel_age_bin_;
   bool pixel_words_current_ = false;
   std::vector<std::vector<uint32_t>> band_lists_;  // depth_cull, cull_behind_surfaces: pixels to empty
-  std::vector<float> row_min_depth_, min_depth_;    // window_min_depth
+  std::vector<float> min_depth_;                    // window_min_depth
+  std::vector<std::vector<float>> min_rings_;       // window_min: each band's ring of row minima
   std::vector<float> neighbour_min_depth_, alone_depth_, sparse_min_depth_;  // mark_alone
   std::vector<glm::mat3> normal_to_world_;  // cull_behind_surfaces' normal matrices
   std::vector<uint8_t> hidden_;             // ... and the reference path's verdicts

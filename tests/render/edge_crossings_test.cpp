@@ -180,7 +180,7 @@ TEST(PointCache, ALoneNearPointHidesTheFarPointsWithinTheSparseRadius) {
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) far.results.push_back(plane_hit(frame, float(x) + 0.5f, float(y) + 0.5f, -5.0f, 0));
   const std::vector<glm::mat4> identity(2, glm::mat4(1.0f));
-  for (const auto [nx, ny] : {std::pair{20, 17}, std::pair{1, 2}, std::pair{w - 1, h - 3}})
+  for (const auto& [nx, ny] : {std::pair{20, 17}, std::pair{1, 2}, std::pair{w - 1, h - 3}})
     for (const int radius : {3, 4, 8, 13, kMaxOcclusionRadius}) {
       PointCacheSettings settings;
       settings.sparse_occlusion_radius = radius;
