@@ -196,8 +196,11 @@ TEST(Triples, TheHierarchyFindsWhatTestingEveryPairFinds) {
         for (uint32_t r = 0; r < scene.objects.size(); ++r) {
           const bool found = std::find(triples.begin(), triples.end(), LightBlockerReceiver{l, b, r}) != triples.end();
           // The finder's spheres bound the mesh's box: between 1 and sqrt(3) times the true radius.
-          if (r == b || meets(l, b, r, 1.0)) EXPECT_TRUE(found) << l << " " << b << " " << r;
-          else if (!meets(l, b, r, 1.75)) EXPECT_FALSE(found) << l << " " << b << " " << r;
+          if (r == b || meets(l, b, r, 1.0)) {
+            EXPECT_TRUE(found) << l << " " << b << " " << r;
+          } else if (!meets(l, b, r, 1.75)) {
+            EXPECT_FALSE(found) << l << " " << b << " " << r;
+          }
         }
     EXPECT_TRUE(std::is_sorted(triples.begin(), triples.end()));
   }

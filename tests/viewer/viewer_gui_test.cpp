@@ -442,8 +442,12 @@ TEST(ViewerInput, EveryBadInputOfTheCliFailsTheSameWay) {
     ASSERT_EQ(c.out.rfind("epi: ", 0), 0u) << c.out;
     ASSERT_EQ(v.out.rfind("epi-viewer: ", 0), 0u) << v.out;
     EXPECT_EQ(first_line(v.out).substr(12), first_line(c.out).substr(5)) << args;
-    if (c.exit_code == 1) EXPECT_EQ(count_lines(v.out), 1) << v.out;
-    if (c.exit_code == 2) EXPECT_NE(v.out.find("Usage:"), std::string::npos) << v.out;
+    if (c.exit_code == 1) {
+      EXPECT_EQ(count_lines(v.out), 1) << v.out;
+    }
+    if (c.exit_code == 2) {
+      EXPECT_NE(v.out.find("Usage:"), std::string::npos) << v.out;
+    }
     EXPECT_FALSE(fs::exists(dir / "o.png"));
   }
 }
