@@ -417,7 +417,7 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
             ++n;
           }
         if (image_.depth[i] > float(sum / n) * cull_scale && !near_depth_edge(edge_pixels, x, y)) culled.push_back(uint32_t(i));
-  });
+  }, [](size_t) {});
   return remove_listed();
 }
 
@@ -754,7 +754,7 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
     if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y, min_depth[i] * scale < depth[i],
                                   sparse_min[i] * scale < depth[i]))
       hidden.push_back(uint32_t(i));
-  });
+  }, [&](size_t i) { __builtin_prefetch(&points_[size_t(point[i])]); });  // the record p's exact position is made from
   return remove_listed();
 }
 
@@ -811,8 +811,8 @@ void PointCache::for_bands(int height, const BandPass& pass) {
   });
 }
 
-template <class Candidate, class Visit>
-void PointCache::for_candidates(const Candidate& candidate, const Visit& visit) {
+template <class Candidate, class Visit, class Ahead>
+void PointCache::for_candidates(const Candidate& candidate, const Visit& visit, const Ahead& ahead) {
   const int w = image_.width;
   constexpr int kChunk = 256;
   for_bands(image_.height, [&](int y0, int y1, std::vector<uint32_t>& list) {
@@ -822,13 +822,17 @@ void PointCache::for_candidates(const Candidate& candidate, const Visit& visit) 
         const size_t row = image_.index(x0, y);
         std::array<uint8_t, kChunk + 8> flags{};  // zero past n
         for (int k = 0; k < n; ++k) flags[size_t(k)] = uint8_t(candidate(row + size_t(k)));
+        std::array<uint16_t, kChunk> found;  // the chunk's candidates, in order
+        size_t count = 0;
         for (int k = 0; k < n; k += 8) {
           uint64_t any;
           std::memcpy(&any, &flags[size_t(k)], 8);
           if (any == 0) continue;
           for (int j = k; j < std::min(n, k + 8); ++j)
-            if (flags[size_t(j)]) visit(x0 + j, y, list);
+            if (flags[size_t(j)]) found[count++] = uint16_t(j);
         }
+        for (size_t c = 0; c < count; ++c) ahead(row + found[c]);
+        for (size_t c = 0; c < count; ++c) visit(x0 + int(found[c]), y, list);
       }
   });
 }

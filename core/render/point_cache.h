@@ -292,9 +292,10 @@ class PointCache {
   void for_bands(int height, const BandPass& pass);
   // for_bands over the pixels where candidate(pixel index) holds: visit(x, y, list). The test runs
   // over a chunk of a row first, without branches (drawn and empty pixels alternate at random),
-  // so the visits (rare) are the only branch taken.
-  template <class Candidate, class Visit>
-  void for_candidates(const Candidate& candidate, const Visit& visit);
+  // so the visits (rare) are the only branch taken. ahead(pixel index) is called for each of a
+  // chunk's candidates before the first of them is visited (to prefetch what the visits read).
+  template <class Candidate, class Visit, class Ahead>
+  void for_candidates(const Candidate& candidate, const Visit& visit, const Ahead& ahead);
   size_t remove_listed();
 
   PointCacheSettings settings_;
