@@ -2,6 +2,7 @@
 #include "render/depth_windows.h"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
 
 #undef HWY_TARGET_INCLUDE
@@ -86,6 +87,29 @@ void LoneDepths(const float* above, const float* row, const float* below, float*
   for (; x < w; ++x) one(x);
 }
 
+void LoneWindowMasks(const float* alone, const float* neighbour_min, size_t stride, int rows, int n, float scale,
+                     float depth, uint32_t* masks) {
+  const hn::ScalableTag<float> d;
+  const int lanes = int(hn::Lanes(d));
+  const auto s = hn::Set(d, scale), limit = hn::Set(d, depth);
+  for (int r = 0; r < rows; ++r) {
+    const float* a = alone + size_t(r) * stride;
+    const float* b = neighbour_min + size_t(r) * stride;
+    uint32_t bits = 0;
+    for (int k = 0; k < n; k += lanes) {
+      // The scalar test's operations: a product rounded to float, then compared.
+      const auto lone = hn::And(hn::Lt(hn::Mul(hn::LoadU(d, a + k), s), limit),
+                                hn::Not(hn::Lt(hn::Mul(hn::LoadU(d, b + k), s), limit)));
+      uint8_t packed[8] = {};
+      hn::StoreMaskBits(d, hn::And(lone, hn::FirstN(d, size_t(n - k))), packed);
+      uint64_t lane_bits = 0;
+      std::memcpy(&lane_bits, packed, sizeof(lane_bits));
+      bits |= uint32_t(lane_bits << k);
+    }
+    masks[r] = bits;
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace epi::render
 HWY_AFTER_NAMESPACE();
@@ -96,11 +120,16 @@ namespace epi::render {
 HWY_EXPORT(RowWindowMin);
 HWY_EXPORT(RowsMin);
 HWY_EXPORT(LoneDepths);
+HWY_EXPORT(LoneWindowMasks);
 
 void row_window_min(const float* in, float* out, int w, int radius) { HWY_DYNAMIC_DISPATCH(RowWindowMin)(in, out, w, radius); }
 void rows_min(const float* const* rows, int count, float* out, int w) { HWY_DYNAMIC_DISPATCH(RowsMin)(rows, count, out, w); }
 void lone_depths(const float* above, const float* row, const float* below, float* least, float* alone, int w) {
   HWY_DYNAMIC_DISPATCH(LoneDepths)(above, row, below, least, alone, w);
+}
+void lone_window_masks(const float* alone, const float* neighbour_min, size_t stride, int rows, int n, float scale,
+                       float depth, uint32_t* masks) {
+  HWY_DYNAMIC_DISPATCH(LoneWindowMasks)(alone, neighbour_min, stride, rows, n, scale, depth, masks);
 }
 
 }  // namespace epi::render

@@ -717,15 +717,19 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
   // Beyond the dense radius a nearer point counts only where it stands alone: no other drawn
   // point in its 3x3 is nearer than this one by the margin (mark_alone; alone_depth_ is +inf
   // where no point is, or none that could stand alone).
-  const float *alone = alone_depth_.data(), *neighbour_min = neighbour_min_depth_.data();
   const int x0 = std::max(0, x - radius), x1 = std::min(w - 1, x + radius);
+  const int y0 = std::max(0, y - radius), y1 = std::min(h - 1, y + radius);
+  uint32_t masks[2 * kMaxOcclusionRadius + 1];
+  lone_window_masks(&alone_depth_[image_.index(x0, y0)], &neighbour_min_depth_[image_.index(x0, y0)], size_t(w),
+                    y1 - y0 + 1, x1 - x0 + 1, scale, depth, masks);
   // The dense window's columns, skipped in its rows (tested above, or not wanted).
   uint32_t inner = 0;
   for (int qx = std::max(x0, x - dense); qx <= std::min(x1, x + dense); ++qx) inner |= uint32_t(1) << (qx - x0);
-  for (int qy = std::max(0, y - radius); qy <= std::min(h - 1, y + radius); ++qy)
-    if (scan_row(qy, x0, x1, std::abs(qy - y) <= dense ? inner : 0,
-                 [&](size_t q) { return (alone[q] * scale < depth) & !(neighbour_min[q] * scale < depth); }))
-      return true;
+  for (int qy = y0; qy <= y1; ++qy) {
+    const size_t q0 = image_.index(x0, qy);
+    for (uint32_t bits = masks[qy - y0] & ~(std::abs(qy - y) <= dense ? inner : 0); bits != 0; bits &= bits - 1)
+      if (consider(q0 + size_t(std::countr_zero(bits)))) return true;
+  }
   return any_behind();
 }
 
@@ -762,7 +766,9 @@ bool PointCache::mark_alone() {
   const int w = image_.width, h = image_.height;
   const size_t n = image_.point.size();
   if (settings_.sparse_occlusion_radius <= std::max(1, settings_.occlusion_radius)) return false;
-  neighbour_min_depth_.resize(n), alone_depth_.resize(n);
+  // Padded: lone_window_masks reads past a window's last pixel (the padding's values are unused).
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  neighbour_min_depth_.resize(n + kWindowPad, kInf), alone_depth_.resize(n + kWindowPad, kInf);
   // A point can stand alone for some farther point only if it is nearer than all the other points
   // of its 3x3 (empty pixels: +inf either way).
   tbb::parallel_for(tbb::blocked_range<int>(0, h, kBandRows), [&](const tbb::blocked_range<int>& rows) {

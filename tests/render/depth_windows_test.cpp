@@ -1,7 +1,8 @@
 // The point cache's window-minimum kernels (core/render/depth_windows.h) on every Highway target
 // compiled and supported here, against plain loops over the same windows: the same bits, for
 // widths around every vector length (1 to 70 pixels), every radius the cache accepts, rows with
-// empty pixels (+inf) and with runs of equal depths.
+// empty pixels (+inf) and with runs of equal depths; the occlusion test's lone masks over windows
+// of every size up to 31x31.
 #include <algorithm>
 #include <bit>
 #include <cstdint>
@@ -88,6 +89,34 @@ TEST(DepthWindows, EveryTargetGivesThePlainLoopsBits) {
           expect_same_bits(least, want_least, "lone_depths' least", target, w, 1);
           expect_same_bits(alone, want_alone, "lone_depths' alone", target, w, 1);
         }
+    }
+    // lone_window_masks: windows of 1-31 columns and 1-31 rows at random places of a padded image,
+    // depths that tie with the products often (a scale of 1 and equal depths) and the tested depth
+    // among them.
+    const int w = 45, h = 40;
+    std::vector<float> alone(size_t(w) * size_t(h) + kWindowPad), neighbour_min(alone.size());
+    for (int y = 0; y < h; ++y) {
+      const std::vector<float> a = random_row(rng, w), b = random_row(rng, w);
+      std::copy(a.begin(), a.end(), alone.begin() + y * w), std::copy(b.begin(), b.end(), neighbour_min.begin() + y * w);
+    }
+    std::uniform_int_distribution<int> pick(0, 1 << 20);
+    for (int round = 0; round < 2000 && !HasFailure(); ++round) {
+      const int n = 1 + pick(rng) % 31, rows = 1 + pick(rng) % 31;
+      const int x0 = pick(rng) % (w - n + 1), y0 = pick(rng) % (h - rows + 1);
+      const float scale = round % 3 == 0 ? 1.0f : 1.02f;
+      const float depth = round % 2 == 0 ? 7.0f : alone[size_t(pick(rng)) % alone.size()];
+      uint32_t got[31], want[31];
+      for (int r = 0; r < rows; ++r) {
+        want[r] = 0;
+        for (int k = 0; k < n; ++k) {
+          const size_t q = size_t(y0 + r) * size_t(w) + size_t(x0 + k);
+          want[r] |= uint32_t((alone[q] * scale < depth) & !(neighbour_min[q] * scale < depth)) << k;
+        }
+      }
+      lone_window_masks(&alone[size_t(y0) * size_t(w) + size_t(x0)], &neighbour_min[size_t(y0) * size_t(w) + size_t(x0)],
+                        size_t(w), rows, n, scale, depth, got);
+      for (int r = 0; r < rows; ++r)
+        ASSERT_EQ(got[r], want[r]) << "lone_window_masks on " << hwy::TargetName(target) << ": " << n << " columns, row " << r;
     }
   }
   hwy::SetSupportedTargetsForTest(0);
