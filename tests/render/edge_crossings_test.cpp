@@ -88,6 +88,29 @@ TEST(EdgeCrossings, ExtremesOnGridLinesEndpointsHugeAndEmpty) {
   EXPECT_FALSE(crossings.separated({1.0, 0.5}, {2.0, 0.5}));
 }
 
+// A cache given the far results, projected, then the near ones (objects 0 and 1, identity
+// transforms), projected and put through the occlusion test with these edges.
+PointCache near_over_far(const ViewFrame& frame, const ShadeBatch& far, const ShadeBatch& near,
+                         const PointCacheSettings& settings, const EdgeCrossings& crossings) {
+  const std::vector<glm::mat4> identity(2, glm::mat4(1.0f));
+  PointCache cache(frame.view().width, frame.view().height, settings);
+  cache.insert(frame, far, identity);
+  cache.project(frame, identity, false);
+  cache.insert(frame, near, identity);
+  cache.project(frame, identity, false);
+  cache.cull_behind_surfaces(frame, identity, crossings);
+  return cache;
+}
+
+// The same with no edge anywhere and the given sparse occlusion radius.
+PointCache near_over_far(const ViewFrame& frame, const ShadeBatch& far, const ShadeBatch& near, int sparse_radius) {
+  PointCacheSettings settings;
+  settings.sparse_occlusion_radius = sparse_radius;
+  EdgeCrossings none;
+  none.build({}, {}, frame.view().width, frame.view().height);
+  return near_over_far(frame, far, near, settings, none);
+}
+
 // A near plane over the left part of the image in front of a far plane, its silhouette at
 // x = 7.6. Far points on the near plane's side of the silhouette are hidden, also inside the
 // pixel the silhouette crosses; those beyond it are not, also inside that pixel.
@@ -100,18 +123,12 @@ TEST(PointCache, TheOcclusionTestActsInsidePixelsAnEdgeCrossesOnTheNearSideOnly)
     for (int x = 0; x < w; ++x) far.results.push_back(hit(float(x) + (x == 7 && y % 2 ? 0.9f : 0.5f), float(y) + 0.5f, -5.0f, 0));
   for (int y = 0; y < h; ++y)
     for (int x = 0; x <= 6; ++x) near.results.push_back(hit(float(x) + 0.5f, float(y) + 0.5f, 1.0f, 1));
-  const std::vector<glm::mat4> identity(2, glm::mat4(1.0f));
   const std::vector<Segment> silhouette = {{7.6, -1.0, 7.6, h + 1.0}};
   const std::vector<EdgeKind> kinds = {EdgeKind::silhouette};
   for (const bool with_edge : {true, false}) {
-    PointCache cache(w, h);
-    cache.insert(frame, far, identity);
-    cache.project(frame, identity, false);
-    cache.insert(frame, near, identity);
-    cache.project(frame, identity, false);
     EdgeCrossings crossings;
     if (with_edge) crossings.build(silhouette, kinds, w, h);
-    cache.cull_behind_surfaces(frame, identity, crossings);
+    const PointCache cache = near_over_far(frame, far, near, PointCacheSettings{}, crossings);
     const PointImage& image = cache.image();
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x <= 6; ++x) ASSERT_GE(image.point[image.index(x, y)], 0);  // the near plane
@@ -138,19 +155,9 @@ TEST(PointCache, FarPointsBetweenTheSamplesOfASparseNearSurfaceAreHidden) {
     for (int x = 0; x < w; ++x) far.results.push_back(hit(float(x) + 0.5f, float(y) + 0.5f, -5.0f, 0));
   for (int y = 1; y < h; y += 6)
     for (int x = 1; x < w; x += 6) near.results.push_back(hit(float(x) + 0.5f, float(y) + 0.5f, 1.0f, 1));
-  const std::vector<glm::mat4> identity(2, glm::mat4(1.0f));
   // 15: the largest radius (a 31-pixel window row, one 32-bit mask, wider than the image).
   for (const int sparse_radius : {0, 4, 8, kMaxOcclusionRadius}) {
-    PointCacheSettings settings;
-    settings.sparse_occlusion_radius = sparse_radius;
-    PointCache cache(w, h, settings);
-    cache.insert(frame, far, identity);
-    cache.project(frame, identity, false);
-    cache.insert(frame, near, identity);
-    cache.project(frame, identity, false);
-    EdgeCrossings none;
-    none.build({}, {}, w, h);
-    cache.cull_behind_surfaces(frame, identity, none);
+    const PointCache cache = near_over_far(frame, far, near, sparse_radius);
     const PointImage& image = cache.image();
     size_t near_drawn = 0, far_drawn = 0;
     for (size_t i = 0; i < image.point.size(); ++i)
@@ -179,21 +186,11 @@ TEST(PointCache, ALoneNearPointHidesTheFarPointsWithinTheSparseRadius) {
   ShadeBatch far;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) far.results.push_back(plane_hit(frame, float(x) + 0.5f, float(y) + 0.5f, -5.0f, 0));
-  const std::vector<glm::mat4> identity(2, glm::mat4(1.0f));
   for (const auto& [nx, ny] : {std::pair{20, 17}, std::pair{1, 2}, std::pair{w - 1, h - 3}})
     for (const int radius : {3, 4, 8, 13, kMaxOcclusionRadius}) {
-      PointCacheSettings settings;
-      settings.sparse_occlusion_radius = radius;
-      PointCache cache(w, h, settings);
-      cache.insert(frame, far, identity);
-      cache.project(frame, identity, false);
       ShadeBatch near;
       near.results.push_back(plane_hit(frame, float(nx) + 0.5f, float(ny) + 0.5f, 1.0f, 1));
-      cache.insert(frame, near, identity);
-      cache.project(frame, identity, false);
-      EdgeCrossings none;
-      none.build({}, {}, w, h);
-      cache.cull_behind_surfaces(frame, identity, none);
+      const PointCache cache = near_over_far(frame, far, near, radius);
       const PointImage& image = cache.image();
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
