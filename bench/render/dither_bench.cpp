@@ -80,7 +80,7 @@ std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width
 
 std::vector<uint32_t> dither_pixels_fs(std::span<const float> priority, int width, int height, size_t count) {
   return dither_in_bands(priority, width, height, count,
-                         [](const float* p, bool uniform, int w, int rows, size_t n, uint64_t) {
+                         [](const float* p, bool uniform, int w, int rows, size_t n, uint64_t, double) {
                            return dither_band(p, uniform, w, rows, n);
                          });
 }

@@ -58,14 +58,12 @@ const HilbertBlock& hilbert_block() {
 // of the picks to within one, the curve's locality spreads them inside the strip, and there is
 // no start-up transient (the error starts at a hashed phase), whatever the density.
 std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width, int height, size_t count,
-                                  uint64_t band_seed) {
+                                  uint64_t band_seed, double total) {
   const size_t pixels = size_t(width) * size_t(height);
   count = std::min(count, pixels);
   std::vector<uint32_t> picked;
   if (count == 0 || pixels == 0) return picked;
-  double total = 0.0;
-  for (size_t i = 0; i < pixels && !uniform; ++i) total += std::max(0.0f, priority[i]);
-  uniform = uniform || !(total > 0.0);
+  uniform = uniform || !(total > 0.0);  // total: the band's priority sum (dither_in_bands made it)
   auto weight = [&](size_t i) { return uniform ? 1.0f : std::max(0.0f, priority[i]); };
   const double scale = double(count) / (uniform ? double(pixels) : total);
 
@@ -143,10 +141,6 @@ std::vector<uint32_t> dither_in_bands(std::span<const float> priority, int width
   const size_t pixels = size_t(width) * size_t(height);
   count = std::min(count, pixels);
   if (count == 0 || pixels == 0) return {};
-  double total = 0.0;
-  for (float p : priority) total += std::max(0.0f, p);
-  const bool uniform = !(total > 0.0) || priority.size() < pixels;
-
   // Bands of rows dithered in parallel. Each gets a share of the count by its priority sum
   // (largest remainders), never more than its positive pixels while other bands have some left.
   const int band_rows = 64;
@@ -156,15 +150,23 @@ std::vector<uint32_t> dither_in_bands(std::span<const float> priority, int width
     size_t positive = 0, pixels = 0, count = 0;
   };
   std::vector<Band> info(static_cast<size_t>(bands));
+  const bool sized = priority.size() >= pixels;  // a shorter priority image is not read: uniform
   tbb::parallel_for(0, bands, [&](int b) {
     Band& band = info[size_t(b)];
     const size_t first = size_t(b) * band_rows * size_t(width);
     band.pixels = size_t(std::min(height, (b + 1) * band_rows) - b * band_rows) * size_t(width);
-    for (size_t i = first; i < first + band.pixels; ++i) {
-      const float p = uniform ? 1.0f : std::max(0.0f, priority[i]);
+    for (size_t i = first; i < first + band.pixels && sized; ++i) {
+      const float p = std::max(0.0f, priority[i]);
       band.sum += p, band.positive += p > 0.0f;
     }
   });
+  // Uniform where no pixel has a positive priority (the sum of non-negative terms is positive
+  // exactly when one is): then every pixel weighs 1.
+  bool any_positive = false;
+  for (const Band& b : info) any_positive = any_positive || b.positive > 0;
+  const bool uniform = !sized || !any_positive;
+  if (uniform)
+    for (Band& b : info) b.sum = double(b.pixels), b.positive = b.pixels;
   double sum = 0.0;
   for (const Band& b : info) sum += b.sum;
   std::vector<std::pair<double, int>> remainders;
@@ -191,7 +193,8 @@ std::vector<uint32_t> dither_in_bands(std::span<const float> priority, int width
     const size_t first = size_t(b) * band_rows * size_t(width);
     const int rows = int(info[size_t(b)].pixels / size_t(width));
     picks[size_t(b)] =
-        band_dither(uniform ? nullptr : priority.data() + first, uniform, width, rows, info[size_t(b)].count, uint64_t(b));
+        band_dither(uniform ? nullptr : priority.data() + first, uniform, width, rows, info[size_t(b)].count, uint64_t(b),
+                    info[size_t(b)].sum);
     for (uint32_t& i : picks[size_t(b)]) i += uint32_t(first);
   });
   std::vector<uint32_t> picked;

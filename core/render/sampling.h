@@ -31,8 +31,9 @@ std::vector<uint32_t> settle_picks(const float* priority, std::span<const uint8_
 // The parallel frame of dither_pixels: `count` is shared among bands of 64 rows by their priority
 // sums (largest remainders; positive pixels first), and each band is dithered on its own by
 // band_dither(priority of the band or null when uniform, uniform, width, rows, band count, band
-// index), which returns band-relative pixel indices. The benchmark runs its baseline through it.
-using BandDither = std::function<std::vector<uint32_t>(const float*, bool, int, int, size_t, uint64_t)>;
+// index, the band's priority sum: its max(0, p) added in pixel order in double), which returns
+// band-relative pixel indices. The benchmark runs its baseline through it.
+using BandDither = std::function<std::vector<uint32_t>(const float*, bool, int, int, size_t, uint64_t, double)>;
 std::vector<uint32_t> dither_in_bands(std::span<const float> priority, int width, int height, size_t count,
                                       const BandDither& band_dither);
 
