@@ -33,6 +33,11 @@ int run_info(const InfoOptions& options);
 int run_render(const RenderOptions& options);
 // The frame loop behind `render --mode epi|rendercache` (cli/frames.cpp).
 int run_render_frames(const RenderOptions& options);
+// The camera of the last frame the frame loop would show (--frames of the path: --camera-path,
+// else a still camera from --eye/--target/..., else the scene's own path; cli/frames.cpp):
+// the view `render --mode reference|raytrace` renders, so that it is the reference of the
+// same command in epi mode.
+Camera last_frame_camera(const RenderOptions& options, const Scene& scene);
 
 // `epi compare IMAGE REFERENCE`: the quality metrics of io/image/image_compare.h.
 struct CompareOptions {

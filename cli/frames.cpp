@@ -83,6 +83,27 @@ constexpr double kFrameLoopBytesPerPixel = 160.0;
 
 }  // namespace
 
+namespace {
+
+// The path: a file, else a still camera from --eye/--target/..., else the scene's own path.
+render::CameraPath command_camera_path(const RenderOptions& options, const Scene& scene) {
+  render::CameraPath path;
+  if (!options.camera_path.empty()) {
+    path = render::read_camera_path(options.camera_path, scene);
+  } else if (options.camera.any()) {
+    path.cameras.push_back({0, apply_camera_override(scene, options.camera)});
+  } else {
+    path = render::scene_camera_path(scene, options.frames);
+  }
+  return path;
+}
+
+}  // namespace
+
+Camera last_frame_camera(const RenderOptions& options, const Scene& scene) {
+  return command_camera_path(options, scene).camera_at(options.frames - 1);
+}
+
 int run_render_frames(const RenderOptions& options) {
   const auto start = Clock::now();
   check_output_image(options.output);
@@ -122,15 +143,7 @@ int run_render_frames(const RenderOptions& options) {
   const double load_ms = ms_since(stage);
   report_repairs(scene, options.quiet);
 
-  // The path: a file, else a still camera from --eye/--target/..., else the scene's own path.
-  render::CameraPath path;
-  if (!options.camera_path.empty()) {
-    path = render::read_camera_path(options.camera_path, scene);
-  } else if (options.camera.any()) {
-    path.cameras.push_back({0, apply_camera_override(scene, options.camera)});
-  } else {
-    path = render::scene_camera_path(scene, options.frames);
-  }
+  const render::CameraPath path = command_camera_path(options, scene);
   for (int f : {0, options.frames - 1}) {  // validate the cameras before long work
     View v;
     v.camera = path.camera_at(f), v.width = options.width, v.height = options.height;

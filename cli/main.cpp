@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
       "render", "Render a scene to an image file and print a timing summary (default: --mode epi, the edge-and-point renderer)");
 #ifdef EPI_WITH_FRAMES
   add_render_options(*render_cmd, render, true);
-  render_cmd->add_option("--frames", render.frames, "Frames to run (epi, rendercache); the image is the last frame")->check(CLI::Range(1, 1000000))->capture_default_str();
+  render_cmd->add_option("--frames", render.frames, "Frames to run (epi, rendercache); the image is the last frame, whose view reference and raytrace render")->check(CLI::Range(1, 1000000))->capture_default_str();
   render_cmd->add_option("--frames-out", render.frames_out, "Write every frame, e.g. frames/f%04d.png");
   render_cmd->add_option("--save-epi", render.save_epi, "Write the last frame's EPI snapshot (mode epi), for epi-visualizer");
   render_cmd->add_flag("!--no-speedup", render.speedup,

@@ -61,7 +61,11 @@ int run_render(const RenderOptions& options) {
   report_repairs(scene, options.quiet);
 
   View view;
+#ifdef EPI_WITH_FRAMES
+  view.camera = last_frame_camera(options, scene);  // the view the same command's frame loop ends on
+#else
   view.camera = apply_camera_override(scene, options.camera);
+#endif
   view.width = options.width;
   view.height = options.height;
   const ViewFrame frame(view);  // validates the camera

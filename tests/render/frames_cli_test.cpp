@@ -204,6 +204,23 @@ TEST(FramesCli, EveryFrameNameIsCheckedBeforeAnyWork) {
   fs::remove_all(dir);
 }
 
+// The image modes render the view the frame loop ends on (the end of the scene's own path here,
+// which is not the scene's camera): a 1-spp ray trace (`--mode raytrace`) is the one the epi run
+// of the same options measures its speed-up with, so against it that ray trace has no error.
+TEST(FramesCli, ImageModesRenderTheLastFramesView) {
+  const fs::path dir = temp_dir();
+  const std::string rooms = std::string(EPI_SOURCE_DIR) + "/scenes/rooms.gltf";
+  const std::string common = " --size 40x30 --seed 3 --frames 20 --quiet";
+  ASSERT_EQ(run_epi("render " + rooms + common + " --mode raytrace -o " + (dir / "end.exr").string()).exit_code, 0);
+  ASSERT_EQ(run_epi("render " + rooms + " --size 40x30 --seed 3 --quiet --fov 40 --mode raytrace -o " +
+                    (dir / "camera.exr").string()).exit_code, 0);
+  EXPECT_TRUE(read_file(dir / "end.exr") != read_file(dir / "camera.exr"));  // another view
+  const EpiRun run = run_epi("render " + rooms + common + " --sync -o " + (dir / "e.exr").string() + " --reference " +
+                             (dir / "end.exr").string());
+  ASSERT_EQ(run.exit_code, 0) << run.out;
+  EXPECT_NE(run.out.find("the 1-spp ray trace against it: display RMSE 0.0000"), std::string::npos) << run.out;
+}
+
 // --reference: the written frame's metrics are those `epi compare` gives for the written file;
 // the speed-up over a 1-spp ray trace is measured unless --no-speedup; a bad reference fails
 // before any work.
