@@ -137,7 +137,8 @@ void FrameRenderer::integrate(const ShadeBatch& batch) {
   }
 }
 
-std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFrame& frame, std::span<const float> priority) {
+std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFrame& frame, std::span<const float> priority,
+                                                                  int index) {
   std::vector<NewShot> shots;
   const int w = settings_.width, h = settings_.height;
   size_t main_budget = budget();
@@ -189,7 +190,7 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
     // A gap needs an unseen block: with none (the camera moves forward, or barely), the predicted
     // occupancy cannot matter and is not computed.
     if (std::find(unseen_.begin(), unseen_.end(), uint8_t(1)) != unseen_.end())
-      predicted_occupancy(cache_, predicted, transforms_, settings_.predict_stride, frame_ % std::max(1, settings_.predict_stride),
+      predicted_occupancy(cache_, predicted, transforms_, settings_.predict_stride, index % std::max(1, settings_.predict_stride),
                           settings_.predict_splat, occupied_);
     else
       occupied_.resize(size_t(w) * size_t(h));
@@ -227,20 +228,20 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
           ++k;
         }
       });
-      make_requests(picked, w, settings_.seed, uint64_t(frame_) * 2 + 1, 0, shot.requests);
+      make_requests(picked, w, settings_.seed, uint64_t(index) * 2 + 1, 0, shot.requests);
       main_budget -= picked.size();
       stats_.predicted = picked.size();
       shots.push_back(std::move(shot));
     }
   }
   NewShot shot{frame, {}};
-  make_requests(dither_pixels(priority, w, h, main_budget), w, settings_.seed, uint64_t(frame_) * 2, 0, shot.requests);
+  make_requests(dither_pixels(priority, w, h, main_budget), w, settings_.seed, uint64_t(index) * 2, 0, shot.requests);
   shots.insert(shots.begin(), std::move(shot));
 
   // Async: the shader may get through only a prefix before the next frame cancels the rest, so
   // the requests go in a shuffled order (see render() for the interleaving of the shots).
   if (async_)
-    for (size_t k = 0; k < shots.size(); ++k) shuffle_requests(shots[k].requests, settings_.seed, uint64_t(frame_) * 2 + k);
+    for (size_t k = 0; k < shots.size(); ++k) shuffle_requests(shots[k].requests, settings_.seed, uint64_t(index) * 2 + k);
   // Ids, and the record of which view and placement each id was made for.
   for (NewShot& s : shots) {
     for (ShadeRequest& r : s.requests) r.id = next_id_++;
@@ -327,22 +328,32 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   const auto start = Clock::now();
   stats_ = {};
   stats_.loop_threads = tbb::this_task_arena::max_concurrency();
+  auto t = Clock::now();
+  ShadeBatch batch;
+  double sampling_ms = 0.0;
+  const bool as_async = !async_ && settings_.sync_as_async;
+  // sync_as_async: the requests the last frame chose for its own view are shaded now, before this
+  // frame's placement (they are traced with the placement their shot records).
+  if (as_async && !sync_shots_.empty()) {
+    const auto tsh = Clock::now();
+    for (const NewShot& s : sync_shots_) shader_.shade(s.frame, s.requests, batch);
+    stats_.ms[FrameStage::shade] = ms_since(tsh);
+    sync_shots_.clear();
+  }
   apply_placement(object_to_world, light_positions);
   const ViewFrame frame(make_view(camera, settings_.width, settings_.height));
 
   // New shading results into the cache.
-  auto t = Clock::now();
-  ShadeBatch batch;
-  double sampling_ms = 0.0;
-  if (!async_) {
-    // Sync: this frame's budget, chosen from the last priority image (uniform at first), shaded now.
+  if (!async_ && (!as_async || frame_ == 0)) {
+    // Sync: this frame's budget, chosen from the last priority image (uniform at first), shaded
+    // now through this frame's view (sync_as_async: the first frame only).
     const auto ts = Clock::now();
-    std::vector<NewShot> shots = choose_requests(frame, reconstruction_.priority);
+    std::vector<NewShot> shots = choose_requests(frame, reconstruction_.priority, frame_);
     sampling_ms += ms_since(ts);
     const auto tsh = Clock::now();
     for (const NewShot& s : shots) shader_.shade(s.frame, s.requests, batch);
-    stats_.ms[FrameStage::shade] = ms_since(tsh);
-  } else {
+    stats_.ms[FrameStage::shade] += ms_since(tsh);
+  } else if (async_) {
     async_->take_results(batch);
   }
   integrate(batch);
@@ -420,7 +431,7 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   // Async: the next requests from this frame's priority; stale ones are dropped.
   if (async_) {
     const auto ts = Clock::now();
-    std::vector<NewShot> shots = choose_requests(frame, reconstruction_.priority);
+    std::vector<NewShot> shots = choose_requests(frame, reconstruction_.priority, frame_);
     shader_behind_ = async_->pending_requests() > 0;  // before the last requests are dropped
     async_->cancel_pending();
     // Main and predicted requests interleaved in proportion, in rounds of a quarter slice.
@@ -430,6 +441,14 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
       const std::vector<ShadeRequest>& requests = shots[part.shot].requests;
       async_->submit(shots[part.shot].frame.view(), {requests.begin() + ptrdiff_t(part.begin), requests.begin() + ptrdiff_t(part.end)});
     }
+    sampling_ms += ms_since(ts);
+  }
+  // sync_as_async: the next frame's requests, from this frame's priority and for this frame's
+  // view (the next frame shades them first; their jitter is keyed by the frame that shades them).
+  if (as_async) {
+    const auto ts = Clock::now();
+    stats_.requested = stats_.predicted = 0;  // the requests chosen this frame: those for the next
+    sync_shots_ = choose_requests(frame, reconstruction_.priority, frame_ + 1);
     sampling_ms += ms_since(ts);
   }
   stats_.ms[FrameStage::sampling] = sampling_ms;

@@ -35,6 +35,12 @@ struct FrameSettings {
   int width = 512, height = 512;
   double sample_budget = 0.02;  // fraction of the pixels requested per frame
   bool sync = false;            // shade the budget inside each frame (deterministic for a seed)
+  // With sync: the requests a frame chooses are made for its own view and shaded at the start of
+  // the next frame, with the placement they were made for (the asynchronous loop's order when the
+  // shader keeps up), instead of being chosen and shaded through the new frame's view. A
+  // deterministic stand-in for what the viewer shows (docs/render.md, "Requests for the view that
+  // chose them").
+  bool sync_as_async = false;
   uint64_t seed = 1;            // request jitter (the shader has its own seed)
   bool antialias = true, complex_filter = true;  // epi mode
   // true: the filters run stage by stage (each timed; epi::Reconstructor::staged); false: the
@@ -148,7 +154,9 @@ class FrameRenderer {
   void apply_placement(std::span<const glm::mat4> object_to_world, std::span<const glm::vec3> light_positions);
   void find_and_rasterize_edges(const ViewFrame& frame);
   void integrate(const ShadeBatch& batch);
-  std::vector<NewShot> choose_requests(const ViewFrame& frame, std::span<const float> priority);
+  // The requests of the frame numbered `index` (it keys their jitter), from `priority`, made for
+  // `frame` (the view the priority image belongs to), and predicted ones when the camera moves.
+  std::vector<NewShot> choose_requests(const ViewFrame& frame, std::span<const float> priority, int index);
   size_t budget() const;
 
   const Scene& scene_;
@@ -167,6 +175,7 @@ class FrameRenderer {
   std::vector<glm::mat4> transforms_;
   std::vector<glm::vec3> light_positions_;  // per punctual light, as placed now
   std::deque<Shot> shots_;
+  std::vector<NewShot> sync_shots_;  // sync_as_async: chosen at the end of a frame, shaded at the start of the next
   Placement placement_;  // a snapshot of transforms_ and light_positions_, renewed when something moves
   uint32_t next_id_ = 0;
   std::unique_ptr<Camera> previous_camera_;

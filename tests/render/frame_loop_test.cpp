@@ -113,22 +113,51 @@ TEST(FrameLoop, SyncFramesAreTheSameWhateverTheThreadCount) {
 }
 
 TEST(FrameLoop, SyncShadesExactlyTheBudgetEveryFrame) {
-  Fixture f;
-  FrameRenderer renderer(f.scene, f.ray_scene, f.shader, small_settings(RenderMode::epi));
-  Camera camera = f.scene.cameras[0];
-  const size_t budget = size_t(std::round(0.05 * 64 * 64));
-  for (int k = 0; k < 5; ++k) {
-    camera.eye.x += 0.3f, camera.target.x += 0.3f;  // a pan: gaps open on the right
-    renderer.render(camera);
-    EXPECT_EQ(renderer.stats().samples, budget);
-    EXPECT_EQ(renderer.stats().requested, budget);
-    EXPECT_LE(renderer.stats().predicted, budget / 4);
-    if (k > 0) {
-      EXPECT_GT(renderer.stats().predicted, 0u);  // the camera moves
+  for (const bool as_async : {false, true}) {
+    Fixture f;
+    FrameSettings s = small_settings(RenderMode::epi);
+    s.sync_as_async = as_async;  // the last frame's requests, chosen for its view: still the budget
+    FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+    Camera camera = f.scene.cameras[0];
+    const size_t budget = size_t(std::round(0.05 * 64 * 64));
+    for (int k = 0; k < 5; ++k) {
+      camera.eye.x += 0.3f, camera.target.x += 0.3f;  // a pan: gaps open on the right
+      renderer.render(camera);
+      EXPECT_EQ(renderer.stats().samples, budget) << as_async << " " << k;
+      EXPECT_EQ(renderer.stats().requested, budget) << as_async << " " << k;
+      EXPECT_LE(renderer.stats().predicted, budget / 4);
+      if (k > 0) {
+        EXPECT_GT(renderer.stats().predicted, 0u);  // the camera moves
+      }
+      const ClassCounts& c = renderer.stats().pixels;
+      EXPECT_EQ(c.empty + c.simple + c.complex, 64 * 64);
     }
-    const ClassCounts& c = renderer.stats().pixels;
-    EXPECT_EQ(c.empty + c.simple + c.complex, 64 * 64);
   }
+}
+
+// sync_as_async: deterministic for a seed, the same under 1 and 4 threads, and not the plain sync
+// loop (its requests are made for the view that chose them and shaded a frame later).
+TEST(FrameLoop, SyncAsAsyncIsDeterministicAndNotThePlainSyncLoop) {
+  std::vector<std::vector<float>> runs;
+  for (const auto& [as_async, threads] : {std::pair{true, 1}, std::pair{true, 4}, std::pair{false, 4}}) {
+    tbb::task_arena arena(threads);
+    arena.execute([&, as_async = as_async] {
+      Fixture f;
+      FrameSettings s = small_settings(RenderMode::epi);
+      s.sync_as_async = as_async;
+      FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+      Camera camera = f.scene.cameras[0];
+      std::vector<float> frames;
+      for (int k = 0; k < 6; ++k) {
+        camera.eye.x += 0.06f;
+        const RgbImage& image = renderer.render(camera);
+        frames.insert(frames.end(), image.pixels.begin(), image.pixels.end());
+      }
+      runs.push_back(std::move(frames));
+    });
+  }
+  EXPECT_TRUE(runs[0] == runs[1]);
+  EXPECT_TRUE(runs[0] != runs[2]);
 }
 
 TEST(FrameLoop, WithAStillCameraTheErrorKeepsFalling) {
