@@ -81,10 +81,6 @@ double mean(const std::vector<double>& v) {
 // ~139 bytes measured as the peak RSS of `epi render --size 2048x2048` less 512x512 (Cornell box).
 constexpr double kFrameLoopBytesPerPixel = 160.0;
 
-}  // namespace
-
-namespace {
-
 // The path: a file, else a still camera from --eye/--target/..., else the scene's own path.
 render::CameraPath command_camera_path(const RenderOptions& options, const Scene& scene) {
   render::CameraPath path;

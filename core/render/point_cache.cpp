@@ -694,23 +694,24 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
     listed[count++] = uint32_t(q);
     return count == kListed && any_behind();
   };
-  // Each window row is tested in one branch-free pass into a bit mask (bit k: column x0 + k),
+  // Each window row is tested in one branch-free pass into a bit mask (bit k: the pixel q0 + k),
   // then its set bits are considered in ascending order: the same points in the same order as a
   // pixel-by-pixel scan, without a branch per pixel (most of a window holds no nearer point).
-  auto scan_row = [&](int qy, int x0, int x1, uint32_t skip, auto&& nearer) {
-    const size_t q0 = image_.index(x0, qy);
-    uint32_t bits = 0;
-    for (int k = 0; k <= x1 - x0; ++k) bits |= uint32_t(nearer(q0 + size_t(k))) << k;
-    for (bits &= ~skip; bits != 0; bits &= bits - 1)
+  auto consider_bits = [&](size_t q0, uint32_t bits) {
+    for (; bits != 0; bits &= bits - 1)
       if (consider(q0 + size_t(std::countr_zero(bits)))) return true;
     return false;
   };
-  const int32_t* point = image_.point.data();
-  const float* depths = image_.depth.data();
   if (dense_window) {
+    const int32_t* point = image_.point.data();
+    const float* depths = image_.depth.data();
     const int x0 = std::max(0, x - dense), x1 = std::min(w - 1, x + dense);
-    for (int qy = std::max(0, y - dense); qy <= std::min(h - 1, y + dense); ++qy)
-      if (scan_row(qy, x0, x1, 0, [&](size_t q) { return (point[q] >= 0) & (depths[q] * scale < depth); })) return true;
+    for (int qy = std::max(0, y - dense); qy <= std::min(h - 1, y + dense); ++qy) {
+      const size_t q0 = image_.index(x0, qy);
+      uint32_t bits = 0;
+      for (int k = 0; k <= x1 - x0; ++k) bits |= uint32_t((point[q0 + size_t(k)] >= 0) & (depths[q0 + size_t(k)] * scale < depth)) << k;
+      if (consider_bits(q0, bits)) return true;
+    }
     if (any_behind()) return true;
   }
   if (radius == dense || !sparse_ring) return false;
@@ -725,11 +726,8 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
   // The dense window's columns, skipped in its rows (tested above, or not wanted).
   uint32_t inner = 0;
   for (int qx = std::max(x0, x - dense); qx <= std::min(x1, x + dense); ++qx) inner |= uint32_t(1) << (qx - x0);
-  for (int qy = y0; qy <= y1; ++qy) {
-    const size_t q0 = image_.index(x0, qy);
-    for (uint32_t bits = masks[qy - y0] & ~(std::abs(qy - y) <= dense ? inner : 0); bits != 0; bits &= bits - 1)
-      if (consider(q0 + size_t(std::countr_zero(bits)))) return true;
-  }
+  for (int qy = y0; qy <= y1; ++qy)
+    if (consider_bits(image_.index(x0, qy), masks[qy - y0] & ~(std::abs(qy - y) <= dense ? inner : 0))) return true;
   return any_behind();
 }
 

@@ -102,6 +102,14 @@ PointCache near_over_far(const ViewFrame& frame, const ShadeBatch& far, const Sh
   return cache;
 }
 
+// A far plane (z = -5, object 0) sampled at every pixel's centre.
+ShadeBatch far_plane(const ViewFrame& frame) {
+  ShadeBatch far;
+  for (int y = 0; y < frame.view().height; ++y)
+    for (int x = 0; x < frame.view().width; ++x) far.results.push_back(plane_hit(frame, float(x) + 0.5f, float(y) + 0.5f, -5.0f, 0));
+  return far;
+}
+
 // The same with no edge anywhere and the given sparse occlusion radius.
 PointCache near_over_far(const ViewFrame& frame, const ShadeBatch& far, const ShadeBatch& near, int sparse_radius) {
   PointCacheSettings settings;
@@ -150,9 +158,8 @@ TEST(PointCache, FarPointsBetweenTheSamplesOfASparseNearSurfaceAreHidden) {
   const int w = 24, h = 14;
   const ViewFrame frame = planes_view(w, h);
   auto hit = [&](float px, float py, float plane_z, uint32_t object) { return plane_hit(frame, px, py, plane_z, object); };
-  ShadeBatch far, near;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) far.results.push_back(hit(float(x) + 0.5f, float(y) + 0.5f, -5.0f, 0));
+  const ShadeBatch far = far_plane(frame);
+  ShadeBatch near;
   for (int y = 1; y < h; y += 6)
     for (int x = 1; x < w; x += 6) near.results.push_back(hit(float(x) + 0.5f, float(y) + 0.5f, 1.0f, 1));
   // 15: the largest radius (a 31-pixel window row, one 32-bit mask, wider than the image).
@@ -183,9 +190,7 @@ TEST(PointCache, FarPointsBetweenTheSamplesOfASparseNearSurfaceAreHidden) {
 TEST(PointCache, ALoneNearPointHidesTheFarPointsWithinTheSparseRadius) {
   const int w = 40, h = 34;
   const ViewFrame frame = planes_view(w, h);
-  ShadeBatch far;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) far.results.push_back(plane_hit(frame, float(x) + 0.5f, float(y) + 0.5f, -5.0f, 0));
+  const ShadeBatch far = far_plane(frame);
   for (const auto& [nx, ny] : {std::pair{20, 17}, std::pair{1, 2}, std::pair{w - 1, h - 3}})
     for (const int radius : {3, 4, 8, 13, kMaxOcclusionRadius}) {
       ShadeBatch near;
