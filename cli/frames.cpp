@@ -156,6 +156,7 @@ int run_render_frames(const RenderOptions& options) {
   settings.sync = options.sync;
   settings.seed = options.seed;
   settings.soft_shadow_edges = options.soft_shadow_edges;
+  settings.trace_ahead = options.trace_ahead;
   if (options.sparse_occlusion_radius) settings.cache.sparse_occlusion_radius = *options.sparse_occlusion_radius;
   std::optional<render::FrameRenderer> renderer;  // reset before the ray trace that measures the speed-up
   renderer.emplace(scene, ray_scene, shader, settings);
@@ -165,7 +166,7 @@ int run_render_frames(const RenderOptions& options) {
   struct Series {
     std::array<std::vector<double>, render::kFrameStageCount> stages;  // per render::kFrameStages
     std::vector<double> total, empty, simple, complex_pixels, silhouette, sharp, border, shadow, culled, samples, requested,
-        predicted, points_culled, points_occluded, holes_filled;
+        predicted, points_culled, points_occluded, holes_filled, result_lag;
   } series;
   stage = Clock::now();
   double write_frames_ms = 0.0;
@@ -194,6 +195,7 @@ int run_render_frames(const RenderOptions& options) {
       series.predicted.push_back(double(s.predicted));
       series.points_culled.push_back(double(s.points.culled)), series.points_occluded.push_back(double(s.points.occluded));
       series.holes_filled.push_back(double(s.holes_filled));
+      series.result_lag.push_back(s.result_lag);
       if (!options.frames_out.empty()) {
         const auto t = Clock::now();
         outputs.add_image(frame_file(options.frames_out, f), *image, options.exposure);
@@ -302,6 +304,7 @@ int run_render_frames(const RenderOptions& options) {
         {"samples_per_frame", samples_per_frame},
         {"requests_per_frame", mean(series.requested)},
         {"predicted_per_frame", mean(series.predicted)},
+        {"result_lag_frames", mean(series.result_lag)},
         {"points_per_frame",
          {{"depth_culled", mean(series.points_culled)},
           {"occluded", mean(series.points_occluded)},

@@ -113,6 +113,9 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
     app.add_flag("--sync", render.sync,
                  "Shade exactly the sample budget inside every frame: the same bytes for the same seed. Default: "
                  "asynchronous, as interactively (the shader runs beside the frame loop; timing-dependent)");
+    app.add_flag("!--no-trace-ahead", render.trace_ahead,
+                 "Trace each frame's requests through the camera they were chosen for, not through the camera "
+                 "extrapolated to the frame their results will be drawn in (asynchronous loop; docs/render.md)");
     app.add_option("--sample-budget", render.sample_budget, "Fraction of the pixels shaded per frame")
         ->check(kFinite & CLI::Range(0.0, 1.0))
         ->capture_default_str();

@@ -15,9 +15,10 @@
 // of that name (0 turns the sparse test off); --times adds a column, the median ms per frame of the
 // points stage (insert, project, culls, fill; docs/render.md). --as-async sets
 // FrameSettings::sync_as_async: requests made for the view that chose them and shaded a frame
-// later, as the viewer's asynchronous loop does (deterministic).
+// later, as the viewer's asynchronous loop does (deterministic). --no-trace-ahead turns
+// FrameSettings::trace_ahead off (requests traced through the camera that chose them).
 // Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs LIST] [--reference-dir DIR]
-//        [--occlusion-radius N] [--sparse-occlusion-radius N] [--as-async] [--times] [--out DIR] SCENE.gltf...
+//        [--occlusion-radius N] [--sparse-occlusion-radius N] [--as-async] [--no-trace-ahead] [--times] [--out DIR] SCENE.gltf...
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -60,6 +61,7 @@ struct Options {
   int sparse_occlusion_radius = -1;  // PointCacheSettings::sparse_occlusion_radius (-1: the default, 0: off)
   bool times = false;  // --times: a last column, the points stage's median ms per frame
   bool as_async = false;  // --as-async: FrameSettings::sync_as_async
+  bool trace_ahead = true;  // --no-trace-ahead: FrameSettings::trace_ahead off
 };
 
 Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Options& o, bool still, RenderMode mode,
@@ -67,6 +69,7 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
   FrameSettings s;
   s.mode = mode, s.width = o.size, s.height = o.size, s.sync = true, s.sample_budget = o.budget, s.seed = o.seed;
   s.sync_as_async = o.as_async;
+  s.trace_ahead = o.trace_ahead;
   if (o.occlusion_radius >= 0) s.cache.occlusion_radius = o.occlusion_radius;
   if (o.sparse_occlusion_radius >= 0) s.cache.sparse_occlusion_radius = o.sparse_occlusion_radius;
   FrameRenderer renderer(scene, ray_scene, shader, s);
@@ -163,16 +166,17 @@ int run_all(int argc, char** argv) {
     else if (a == "--sparse-occlusion-radius") o.sparse_occlusion_radius = std::stoi(value());
     else if (a == "--times") o.times = true;
     else if (a == "--as-async") o.as_async = true;
+    else if (a == "--no-trace-ahead") o.trace_ahead = false;
     else if (a.starts_with("-")) o.size = 0;  // unknown option (also --help): the usage line below
     else scenes.push_back(a);
   }
   if (scenes.empty() || o.size < 8 || o.frames < 1 || !(o.budget > 0.0 && o.budget <= 1.0)) {
-    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--as-async] [--times] [--out DIR] SCENE.gltf...\n");
+    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--as-async] [--no-trace-ahead] [--times] [--out DIR] SCENE.gltf...\n");
     return 2;
   }
   if (!o.out.empty()) std::filesystem::create_directories(o.out);
-  std::printf("%dx%d, %d frames along the path, sync%s, budget %.3f, seed %llu, direct shader, reference %d spp\n", o.size,
-              o.size, o.frames, o.as_async ? " as async" : "", o.budget, (unsigned long long)o.seed, o.spp);
+  std::printf("%dx%d, %d frames along the path, sync%s%s, budget %.3f, seed %llu, direct shader, reference %d spp\n", o.size,
+              o.size, o.frames, o.as_async ? " as async" : "", o.trace_ahead ? "" : ", not traced ahead", o.budget, (unsigned long long)o.seed, o.spp);
   std::printf("| scene | run | RMSE | > 0.1 | > 0.2 | hidden | colour | near hidden | other |\n|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& file : scenes) {
     const Scene scene = load_scene(file);

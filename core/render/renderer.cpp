@@ -115,7 +115,8 @@ void FrameRenderer::apply_placement(std::span<const glm::mat4> object_to_world, 
 
 void FrameRenderer::integrate(const ShadeBatch& batch) {
   // Results come in submission order; each run of ids belongs to one shot.
-  size_t begin = 0;
+  size_t begin = 0, lagged = 0;
+  double lag = 0.0;
   ShadeBatch part;
   while (begin < batch.results.size()) {
     const uint32_t id = batch.results[begin].id;
@@ -132,9 +133,12 @@ void FrameRenderer::integrate(const ShadeBatch& batch) {
               triples_[{t.light, t.blocker, t.receiver}] = frame_;
       part.results.assign(batch.results.begin() + ptrdiff_t(begin), batch.results.begin() + ptrdiff_t(end));
       stats_.samples += cache_.insert(shot->frame, part, shot->placement->objects, shot->placement->epoch);
+      lag += double(frame_ - shot->chosen) * double(end - begin), lagged += end - begin;
     }
     begin = end;
   }
+  if (lagged > 0) result_lag_ = lag / double(lagged);
+  stats_.result_lag = result_lag_;
 }
 
 std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFrame& frame, std::span<const float> priority,
@@ -234,7 +238,12 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
       shots.push_back(std::move(shot));
     }
   }
+  // Traced through the camera where the results will be drawn (FrameSettings::trace_ahead): a
+  // ray from the eye that chose it finds what that eye saw, which the view it is drawn in may
+  // already see hidden (docs/render.md, "Requests traced ahead").
   NewShot shot{frame, {}};
+  if (settings_.trace_ahead && result_lag_ > 0.0 && previous_camera_ && !same_camera(*previous_camera_, camera))
+    shot.frame = ViewFrame(make_view(extrapolate_camera(*previous_camera_, camera, float(result_lag_)), w, h));
   make_requests(dither_pixels(priority, w, h, main_budget), w, settings_.seed, uint64_t(index) * 2, 0, shot.requests);
   shots.insert(shots.begin(), std::move(shot));
 
@@ -246,7 +255,8 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
   for (NewShot& s : shots) {
     for (ShadeRequest& r : s.requests) r.id = next_id_++;
     stats_.requested += s.requests.size();
-    shots_.push_back({s.requests.empty() ? next_id_ : s.requests.front().id, uint32_t(s.requests.size()), s.frame, placement_});
+    shots_.push_back({s.requests.empty() ? next_id_ : s.requests.front().id, uint32_t(s.requests.size()), frame_, s.frame,
+                      placement_});
   }
   while (shots_.size() > 32) shots_.pop_front();
   return shots;

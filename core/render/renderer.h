@@ -41,6 +41,11 @@ struct FrameSettings {
   // deterministic stand-in for what the viewer shows (docs/render.md, "Requests for the view that
   // chose them").
   bool sync_as_async = false;
+  // A frame's requests are traced through its camera extrapolated to the frame their results will
+  // be drawn in: by the lag, in frames, of the results the last frame integrated (0 in sync mode,
+  // 1 with sync_as_async, measured in the asynchronous loop). false: through the camera that chose
+  // them (docs/render.md, "Requests traced ahead").
+  bool trace_ahead = true;
   uint64_t seed = 1;            // request jitter (the shader has its own seed)
   bool antialias = true, complex_filter = true;  // epi mode
   // true: the filters run stage by stage (each timed; epi::Reconstructor::staged); false: the
@@ -91,6 +96,9 @@ struct FrameStats {
   size_t predicted = 0;  // of which for predicted gaps
   size_t holes_filled = 0;  // pixels that reached no sample, filled by fill_holes
   int loop_threads = 0;     // the frame loop's concurrency this frame (FrameSettings::core_split)
+  // Frames from a request's choice to its result's integration, mean over this frame's results
+  // (the last frame's value when none came); what FrameSettings::trace_ahead extrapolates by.
+  double result_lag = 0.0;
   // Pixels per new sample this frame; +infinity when no sample was integrated (not 0: 0 would
   // read as "densest possible").
   double sparseness = std::numeric_limits<double>::infinity();
@@ -142,6 +150,7 @@ class FrameRenderer {
   using Placement = std::shared_ptr<const PlacementState>;
   struct Shot {  // a batch of requests, the view they were made for, and the object and light placement
     uint32_t first_id = 0, count = 0;
+    int chosen = 0;  // the frame that chose it
     ViewFrame frame;
     Placement placement;  // the placement its requests are traced with (shared while nothing moves)
   };
@@ -179,6 +188,7 @@ class FrameRenderer {
   Placement placement_;  // a snapshot of transforms_ and light_positions_, renewed when something moves
   uint32_t next_id_ = 0;
   std::unique_ptr<Camera> previous_camera_;
+  double result_lag_ = 0.0;  // FrameStats::result_lag of the last frame that integrated results
   // epi mode: the edge finder sees a light copy of the scene (objects, lights) placed as now.
   std::unique_ptr<edges::SceneEdgeFinder> finder_;
   Scene edge_scene_;

@@ -19,6 +19,7 @@
 #include <tbb/task_arena.h>
 
 #include "epi/reconstruct.h"
+#include "render/point_cache_detail.h"
 #include "render/renderer.h"
 #include "shade/render_image.h"
 #include "test_scenes.h"
@@ -158,6 +159,41 @@ TEST(FrameLoop, SyncAsAsyncIsDeterministicAndNotThePlainSyncLoop) {
   }
   EXPECT_TRUE(runs[0] == runs[1]);
   EXPECT_TRUE(runs[0] != runs[2]);
+}
+
+// FrameSettings::trace_ahead: a request is traced from the eye of the frame that draws its result.
+// A pan at constant speed makes the extrapolation exact, so every point a frame integrated (age 1
+// after its projection) was shaded from this frame's eye: sync (lag 0) with or without the
+// setting, sync_as_async (lag 1) only with it; without it, from the eye a frame before.
+TEST(FrameLoop, RequestsAreTracedFromTheEyeOfTheFrameThatDrawsThem) {
+  for (const bool as_async : {false, true})
+    for (const bool ahead : {true, false}) {
+      Fixture f;
+      FrameSettings s = small_settings(RenderMode::epi);
+      s.sync_as_async = as_async, s.trace_ahead = ahead;
+      s.predict_share = 0.0f;    // predicted requests have views of their own
+      s.cache.refine = false;    // a refined point keeps the direction of its first result
+      FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+      Camera camera = f.scene.cameras[0];
+      for (int k = 0; k < 6; ++k) {
+        camera.eye.x += 0.1f, camera.target.x += 0.1f;
+        renderer.render(camera);
+      }
+      EXPECT_EQ(renderer.stats().result_lag, as_async ? 1.0 : 0.0);
+      size_t fresh = 0, from_this_eye = 0;
+      for (const CachePoint& p : renderer.cache().points()) {
+        if (!p.valid || p.age != 1 || p.object == kNone) continue;
+        const glm::vec3 world = glm::vec3(f.ray_scene.object_to_world(p.object) * glm::vec4(p.local, 1.0f));
+        const float turned = std::acos(std::clamp(glm::dot(detail::unpack_unit(p.view), glm::normalize(camera.eye - world)), -1.0f, 1.0f));
+        ++fresh, from_this_eye += turned < 2e-3f;
+      }
+      ASSERT_GT(fresh, 100u);
+      if (!as_async || ahead) {
+        EXPECT_EQ(from_this_eye, fresh) << as_async << ahead;
+      } else {
+        EXPECT_EQ(from_this_eye, 0u);
+      }
+    }
 }
 
 TEST(FrameLoop, WithAStillCameraTheErrorKeepsFalling) {
