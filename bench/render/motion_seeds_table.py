@@ -5,8 +5,12 @@ pixels off by more than 0.2, as a Markdown table. Each input line is one table r
 program prints it (optionally after a label and a seed).
 
   bench/render/motion_seeds_table.py [--run still|path|rc] BEFORE.txt AFTER.txt
+  bench/render/motion_seeds_table.py --targets RUNS.txt
 
 --run picks the rows ("epi, path" by default; still: "epi, still"; rc: "render cache, path").
+--targets: issue 9's figures from one file holding all three runs per seed: the seed means of the
+path, still and render cache RMSE, path over still (target at most 1.5), path over the render
+cache (at most 0.75) and the path's share of pixels over 0.2 (at most 0.3 %).
 """
 import collections
 import re
@@ -30,8 +34,21 @@ def mean(values):
     return sum(values) / len(values)
 
 
+def targets(name):
+    path, still, rc = load(name, "path"), load(name, "still"), load(name, "rc")
+    print("| scene | seeds | path RMSE | still RMSE | render cache RMSE | path / still | path / render cache | > 0.2 path |")
+    print("|---|---|---|---|---|---|---|---|")
+    for scene in sorted(path):
+        p, st, r = [v for v, _ in path[scene]], [v for v, _ in still[scene]], [v for v, _ in rc[scene]]
+        over = mean([o for _, o in path[scene]])
+        print(f"| {scene} | {len(p)} | {mean(p):.4f} | {mean(st):.4f} | {mean(r):.4f} | {mean(p) / mean(st):.2f} | "
+              f"{mean(p) / mean(r):.2f} | {over:.2f} % |")
+
+
 def main():
     args = sys.argv[1:]
+    if len(args) == 2 and args[0] == "--targets":
+        return targets(args[1])
     run = "path"
     if len(args) == 4 and args[0] == "--run" and args[1] in RUNS:
         run, args = args[1], args[2:]

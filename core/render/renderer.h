@@ -38,8 +38,8 @@ struct FrameSettings {
   // With sync: the requests a frame chooses are made for its own view and shaded at the start of
   // the next frame, with the placement they were made for (the asynchronous loop's order when the
   // shader keeps up), instead of being chosen and shaded through the new frame's view. A
-  // deterministic stand-in for what the viewer shows (docs/render.md, "Requests for the view that
-  // chose them").
+  // deterministic stand-in for what the viewer shows (docs/render.md, "Sparse near surfaces",
+  // "Requests traced ahead").
   bool sync_as_async = false;
   // A frame's requests are traced through its camera extrapolated to the frame their results will
   // be drawn in: by the lag, in frames, of the results the last frame integrated (0 in sync mode,

@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""What a user sees while moving, in the asynchronous loop (docs/render.md, "Requests traced ahead").
+
+For each scene, renders 64-spp references of some frames of its bundled camera path (kept in
+REFS_DIR), runs `epi render` asynchronously along the path for each seed and setting, writing
+every frame, and compares those frames with their references (`epi compare`). Prints one
+Markdown row per scene and setting: display RMSE and the shares of pixels off by more than 0.1
+and 0.2, means over the frames and seeds, with the range of the per-run means. Timing-dependent
+(the shader runs beside the loop): read means over several seeds.
+
+  bench/render/async_along_path.py EPI REFS_DIR --seeds 1,2,3,4 --settings=-,--no-trace-ahead SCENE.gltf...
+
+A setting is extra `epi render` flags ("-": none). Options: --frames-at 15,25,35,45,55,59 (frame
+indices of the 60-frame path), --size 256, --budget 0.02.
+"""
+import argparse
+import json
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+
+COMPARE = re.compile(r"display RMSE ([\d.]+) .*> 0\.1: ([\d.]+) %, by > 0\.2: ([\d.]+) %")
+
+
+def camera_path(scene):
+    """The scene's bundled camera keys (scene-format.md: the default scene's extras, else the root's)."""
+    with open(scene) as f:
+        gltf = json.load(f)
+    keys = gltf["scenes"][gltf.get("scene", 0)].get("extras", {}).get("epi", {}).get("camera_path") or \
+        gltf.get("extras", {}).get("epi", {}).get("camera_path")
+    if not keys:
+        sys.exit(f"{scene}: no camera_path in the scene's extras.epi")
+    return keys
+
+
+def compare(epi, image, reference):
+    out = subprocess.run([epi, "compare", image, reference], check=True, capture_output=True, text=True).stdout
+    m = COMPARE.search(out)
+    if not m:
+        sys.exit(f"epi compare {image}: unexpected output: {out}")
+    return tuple(float(v) for v in m.groups())
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("epi")
+    ap.add_argument("refs")
+    ap.add_argument("scenes", nargs="+")
+    ap.add_argument("--seeds", default="1,2,3,4")
+    ap.add_argument("--settings", default="-,--no-trace-ahead")
+    ap.add_argument("--frames-at", default="15,25,35,45,55,59")
+    ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--budget", default="0.02")
+    a = ap.parse_args()
+    frames_at = [int(k) for k in a.frames_at.split(",")]
+    size = f"{a.size}x{a.size}"
+    os.makedirs(a.refs, exist_ok=True)
+    print(f"{size}, async, budget {a.budget}, frames {a.frames_at} of each 60-frame path, seeds {a.seeds}, "
+          "64-spp references")
+    print("| scene | setting | runs | RMSE (mean, range of runs) | > 0.1 | > 0.2 |")
+    print("|---|---|---|---|---|---|")
+    for scene in a.scenes:
+        name = os.path.splitext(os.path.basename(scene))[0]
+        keys = camera_path(scene)
+        if len(keys) != 60:
+            sys.exit(f"{scene}: {len(keys)} camera keys, expected 60 (one per frame)")
+        refs = {}
+        for k in frames_at:
+            ref = os.path.join(a.refs, f"{name}_{size}_64spp_key{k}.exr")
+            if not os.path.exists(ref):
+                c = keys[k]
+                vec = lambda v: ",".join(repr(float(x)) for x in v)
+                subprocess.run([a.epi, "render", scene, "--mode", "reference", "--spp", "64", "--size", size, "--eye",
+                                vec(c["eye"]), "--target", vec(c["target"]), "--up", vec(c["up"]), "--fov",
+                                repr(float(c["yfov"])), "--quiet", "-o", ref], check=True, stdout=subprocess.DEVNULL)
+            refs[k] = ref
+        for setting in a.settings.split(","):
+            flags = [] if setting == "-" else setting.split()
+            runs = []
+            for seed in a.seeds.split(","):
+                work = tempfile.mkdtemp(prefix="epi_along_")
+                try:
+                    subprocess.run([a.epi, "render", scene, "--size", size, "--frames", "60", "--sample-budget", a.budget,
+                                    "--seed", seed, "--quiet", "--no-speedup", "--frames-out",
+                                    os.path.join(work, "f%d.exr"), "-o", os.path.join(work, "last.exr")] + flags,
+                                   check=True, stdout=subprocess.DEVNULL)
+                    errors = [compare(a.epi, os.path.join(work, f"f{k}.exr"), refs[k]) for k in frames_at]
+                finally:
+                    shutil.rmtree(work)
+                runs.append(tuple(statistics.mean(e[i] for e in errors) for i in range(3)))
+            rmse = [r[0] for r in runs]
+            label = "default" if setting == "-" else setting
+            print(f"| {name} | {label} | {len(runs)} | {statistics.mean(rmse):.4f} ({min(rmse):.4f}-{max(rmse):.4f}) | "
+                  f"{statistics.mean(r[1] for r in runs):.2f} % | {statistics.mean(r[2] for r in runs):.2f} % |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
