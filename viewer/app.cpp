@@ -136,6 +136,7 @@ class Viewer {
     s.frame.sync = options.render.sync;
     s.frame.seed = options.render.seed;
     s.frame.soft_shadow_edges = options.render.soft_shadow_edges;
+    s.frame.trace_ahead = options.render.trace_ahead;
     if (options.render.sparse_occlusion_radius) s.frame.cache.sparse_occlusion_radius = *options.render.sparse_occlusion_radius;
     s.shader = cli::shader_settings(options.render);
     s.reference_spp = options.render.spp;
@@ -864,6 +865,7 @@ void Viewer::draw_panel() {
   ImGui::SameLine();
   ImGui::Checkbox("fill holes", &s.frame.fill_holes);
   ImGui::Checkbox("sync (shade the budget inside each frame)", &s.frame.sync);
+  ImGui::Checkbox("trace ahead (camera extrapolated by the lag)", &s.frame.trace_ahead);
   int threads = s.threads;
   if (ImGui::InputInt("threads (0: all)", &threads) && threads >= 0 && threads <= 1024) s.threads = threads;
   float max_fps = float(s.max_fps);
