@@ -248,6 +248,9 @@ Camera extrapolate_camera(const Camera& previous, const Camera& current, float a
   c.eye = current.eye + ahead * (current.eye - previous.eye);
   c.target = current.target + ahead * (current.target - previous.target);
   if (!(glm::length(c.target - c.eye) > 1e-6f)) c = current;  // degenerate: no prediction
+  // Beyond the ray tracer's range (or overflowed): ViewFrame would refuse it; no prediction.
+  for (int k = 0; k < 3; ++k)
+    if (!(std::abs(c.eye[k]) <= kMaxRayCoordinate && std::abs(c.target[k]) <= kMaxRayCoordinate)) return current;
   return c;
 }
 

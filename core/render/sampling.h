@@ -54,7 +54,8 @@ struct SubmissionPart {
 std::vector<SubmissionPart> interleave_shots(std::span<const size_t> shot_sizes, size_t round_size);
 
 // The camera `ahead` frames later if it keeps moving as from `previous` to `current` (eye and
-// target extrapolated linearly, up and field of view kept).
+// target extrapolated linearly, up and field of view kept); `current` where that camera would be
+// degenerate or beyond the ray tracer's range (kMaxRayCoordinate).
 Camera extrapolate_camera(const Camera& previous, const Camera& current, float ahead);
 
 // Predictive occupancy: a pseudo-random 1/stride of the valid points (subset `phase`, chosen by a

@@ -196,6 +196,22 @@ TEST(FrameLoop, RequestsAreTracedFromTheEyeOfTheFrameThatDrawsThem) {
     }
 }
 
+// A camera moving near the ray tracer's range: the extrapolated cameras (predicted requests,
+// requests traced ahead) would leave it; the loop keeps the current camera instead of throwing.
+TEST(FrameLoop, ACameraMovingAtTheEdgeOfTheRangeIsNotExtrapolatedBeyondIt) {
+  for (const bool as_async : {false, true}) {
+    Fixture f;
+    FrameSettings s = small_settings(RenderMode::epi);
+    s.sync_as_async = as_async;
+    FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+    Camera camera = f.scene.cameras[0];
+    for (const float x : {5e17f, 7e17f, 9e17f, 9.9e17f}) {
+      camera.eye = {x, 1.0f, 5.0f}, camera.target = {x, 0.0f, 0.0f};
+      EXPECT_NO_THROW(renderer.render(camera)) << as_async << " " << x;
+    }
+  }
+}
+
 TEST(FrameLoop, WithAStillCameraTheErrorKeepsFalling) {
   Fixture f;
   View view;

@@ -227,6 +227,15 @@ TEST(Predict, CameraExtrapolatesLinearly) {
   EXPECT_FLOAT_EQ(c.target.x, 2.5f);
   const Camera still = extrapolate_camera(b, b, 4.0f);
   EXPECT_EQ(still.eye, b.eye);
+  // An eye that would leave the ray tracer's range (or overflow) is not extrapolated: ViewFrame
+  // would refuse it, and the frame loop extrapolates every moving frame.
+  Camera far_a = a, far_b = b;
+  far_a.eye = {6e17f, 0, 5}, far_b.eye = {8e17f, 0, 5};
+  far_a.target = far_a.eye - glm::vec3(0, 0, 1), far_b.target = far_b.eye - glm::vec3(0, 0, 1);
+  const Camera clamped = extrapolate_camera(far_a, far_b, 2.0f);
+  EXPECT_EQ(clamped.eye, far_b.eye);
+  EXPECT_EQ(clamped.target, far_b.target);
+  EXPECT_NO_THROW(ViewFrame(View{clamped, 8, 8}));
 }
 
 // A plane sampled at every pixel from the current camera; the camera slides right. The predicted
