@@ -106,11 +106,26 @@ void FrameRenderer::apply_placement(std::span<const glm::mat4> object_to_world, 
     apply();
     return;
   }
-  // Async: a shot must be traced against the placement it records. Cancel the requests not yet
-  // started first, so none of them can be traced after the move; the slice in flight finishes
-  // against the old placement (its shot's), and the move runs before any later slice.
-  async_->cancel_pending();
-  async_->run_between_batches(std::move(apply));
+  // Async: a shot must be traced against the placement it records. The move runs on the shading
+  // thread before any request not yet started (the slice in flight finishes against the old
+  // placement), so each shot's record is split where its first such request is: the part before
+  // keeps the old placement, the rest records the new one. (Those requests used to be
+  // cancelled: with an object or a light moving every frame, requests then lived only from a
+  // frame's end to the next frame's start, and the shader starved; docs/render.md, "The
+  // loop", "Moving objects".)
+  const std::vector<uint32_t> unstarted = async_->run_between_batches(std::move(apply));
+  for (size_t k = 0; k < shots_.size(); ++k) {
+    Shot& shot = shots_[k];
+    uint32_t split = shot.first_id + shot.count;  // the shot's first request not yet started
+    for (const uint32_t id : unstarted)
+      if (id - shot.first_id < shot.count) split = std::min(split, id);
+    if (split == shot.first_id + shot.count) continue;
+    Shot rest = shot;
+    rest.first_id = split, rest.count = shot.first_id + shot.count - split, rest.placement = placement_;
+    shot.count = split - shot.first_id;
+    if (shot.count == 0) shot = rest;
+    else shots_.insert(shots_.begin() + ptrdiff_t(++k), rest);
+  }
 }
 
 void FrameRenderer::integrate(const ShadeBatch& batch) {

@@ -32,12 +32,16 @@ void AsyncShader::submit(const View& view, std::vector<ShadeRequest> requests) {
   work_ready_.notify_one();
 }
 
-void AsyncShader::run_between_batches(std::function<void()> update) {
+std::vector<uint32_t> AsyncShader::run_between_batches(std::function<void()> update) {
+  std::vector<uint32_t> unstarted;
   {
-    std::lock_guard lock(mutex_);
+    std::lock_guard lock(mutex_);  // the worker takes no slice meanwhile, and takes updates first
     updates_.push_back(std::move(update));
+    for (const Job& job : jobs_)
+      if (job.next < job.requests.size()) unstarted.push_back(job.requests[job.next].id);
   }
   work_ready_.notify_one();
+  return unstarted;
 }
 
 size_t AsyncShader::take_results(ShadeBatch& out) {

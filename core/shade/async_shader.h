@@ -36,8 +36,11 @@ class AsyncShader {
   // for shading: holds a lock only to swap a queue.
   size_t take_results(ShadeBatch& out);
   // Runs update on the worker between two slices, when nothing traces (e.g. moving an
-  // object with RayScene::set_object_transform). Returns at once.
-  void run_between_batches(std::function<void()> update);
+  // object with RayScene::set_object_transform), before any request not yet started. Returns at
+  // once, with the id of the first request not yet started of each queued batch (in queue
+  // order): those requests, and the ones after them in their batches, will be traced after the
+  // update; every earlier one before it.
+  std::vector<uint32_t> run_between_batches(std::function<void()> update);
   // Drops requests not yet started; returns how many were dropped.
   size_t cancel_pending();
   // Blocks until everything submitted is shaded (tests, --sync mode).

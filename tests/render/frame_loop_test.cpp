@@ -604,6 +604,30 @@ TEST(FrameLoop, AsyncWithAnObjectMovingEveryFrameIntegratesSamplesInPlace) {
   EXPECT_EQ(stale, 0u);
 }
 
+// An object moving every frame, asynchronous shading: the requests not yet started when the
+// next frame moves the object are traced after the move (their shot's record split), not
+// dropped. Dropped, they lived only from a frame's end to the next frame's start, and the shader
+// starved (the soak run saw 277 of 300 frames without a result). Timing decides how many
+// frames get results; with the requests kept, the shader has a whole frame to start them.
+TEST(FrameLoop, AsyncWithAnObjectMovingEveryFrameKeepsTheShaderFed) {
+  Fixture f;
+  FrameSettings s = small_settings(RenderMode::epi, false);
+  s.width = s.height = 48;
+  FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+  std::vector<glm::mat4> objects;
+  for (const Object& o : f.scene.objects) objects.push_back(o.object_to_world);
+  constexpr int kFrames = 200;
+  int fed = 0;
+  size_t samples = 0;
+  for (int k = 0; k < kFrames; ++k) {
+    objects[1] = glm::translate(f.scene.objects[1].object_to_world, glm::vec3(0.002f * float(k), 0.0f, 0.0f));
+    renderer.render(f.scene.cameras[0], objects);
+    fed += renderer.stats().samples > 0, samples += renderer.stats().samples;
+  }
+  std::printf("frames with results: %d of %d, %zu results\n", fed, kFrames, samples);
+  EXPECT_GT(fed, kFrames / 2);
+}
+
 // The shader gets through only the first slice of a frame's requests (a held shader, released
 // for one slice): that prefix must cover the whole image in proportion, not the top rows.
 TEST(FrameLoop, AsyncPrefixOfTheRequestsCoversTheWholeImage) {

@@ -62,7 +62,8 @@ TEST(Soak, MovingCameraObjectAndLightWithAsyncShadingStayFiniteBoundedAndSteady)
   constexpr int kPeriod = 100;
   const double w = 2.0 * 3.14159265358979 / kPeriod;
   double memory_after_warm_up = 0.0, memory_peak = 0.0;
-  std::vector<double> frame_ms, period_fast, period_median;
+  std::vector<double> frame_ms, period_fast;
+  int fed = 0;  // frames that integrated shading results
   for (int f = 0; f < frames; ++f) {
     const double t = double(f);
     Camera camera = scene.cameras.front();
@@ -77,6 +78,7 @@ TEST(Soak, MovingCameraObjectAndLightWithAsyncShadingStayFiniteBoundedAndSteady)
 
     const RgbImage& image = renderer.render(camera, objects, lights);
     frame_ms.push_back(renderer.stats().ms.total);
+    fed += renderer.stats().samples > 0;
     if ((f + 1) % kPeriod != 0) continue;
 
     // A checkpoint at the end of every period.
@@ -88,26 +90,22 @@ TEST(Soak, MovingCameraObjectAndLightWithAsyncShadingStayFiniteBoundedAndSteady)
     if (memory_after_warm_up == 0.0) memory_after_warm_up = memory;
     // Bounded: the point cache, edges and images have fixed capacities.
     EXPECT_LT(memory, memory_after_warm_up * 1.25 + 16e6) << "resident memory grows";
-    if (f + 1 > kPeriod) {
-      const std::vector<double> period(frame_ms.end() - kPeriod, frame_ms.end());
-      period_fast.push_back(low_decile(period)), period_median.push_back(median(period));
-    }
+    if (f + 1 > kPeriod) period_fast.push_back(low_decile(std::vector<double>(frame_ms.end() - kPeriod, frame_ms.end())));
   }
   ASSERT_GE(period_fast.size(), 2u) << "EPI_SOAK_FRAMES: at least 300";
+  // The shader fed while everything moves: until 2026-11-26 a move cancelled the requests not yet
+  // started, and some runs integrated no result in 277 of 300 frames (whose fast frames then
+  // also tripped the drift check below; docs/render.md, "The loop").
+  EXPECT_GT(fed, frames * 2 / 3) << "frames that integrated shading results";
   // No drift: the last period's fast frames (its 10th percentile) within 3x (+5 ms) of the first
-  // period's typical frame (its median) after warm-up. Growing work raises every frame; other
-  // programs' load on a shared machine raises many frames but rarely the fastest tenth (medians
-  // moved 3.8 -> 18.8 ms in a loaded ctest run with no drift). Not the first period's fastest
-  // tenth: how many frames run on one core (the adaptive core split, while the shader is behind)
-  // varies from run to run, and those frames are faster at this size (a period's 10th percentile
-  // measured 1.9-9.1 ms with medians of 8-10 ms, before and after 2026-11-26).
-  EXPECT_LT(period_fast.back(), 3.0 * period_median.front() + 5.0)
-      << "frame time drifted from " << period_median.front() << " ms (median) to " << period_fast.back()
-      << " ms (10th percentile)";
-  std::printf("soak: %d frames, median frame %.2f ms (first period after warm-up: median %.2f, 10th percentile %.2f; last: %.2f, "
-              "%.2f), resident %.1f MB after warm-up, peak %.1f MB\n",
-              frames, median(frame_ms), period_median.front(), period_fast.front(), period_median.back(), period_fast.back(),
-              memory_after_warm_up / 1e6,
+  // period's after warm-up. Growing work raises every frame; other programs' load on a shared
+  // machine raises many frames but rarely the fastest tenth (medians moved 3.8 -> 18.8 ms in a
+  // loaded ctest run with no drift).
+  EXPECT_LT(period_fast.back(), 3.0 * period_fast.front() + 5.0)
+      << "frame time drifted from " << period_fast.front() << " ms to " << period_fast.back() << " ms";
+  std::printf("soak: %d frames (%d with results), median frame %.2f ms (10th percentile: first period after warm-up %.2f, last %.2f), resident %.1f MB after warm-up, "
+              "peak %.1f MB\n",
+              frames, fed, median(frame_ms), period_fast.front(), period_fast.back(), memory_after_warm_up / 1e6,
               memory_peak / 1e6);
 }
 

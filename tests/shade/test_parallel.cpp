@@ -182,6 +182,15 @@ TEST(AsyncShader, CancelsUpdatesBetweenBatchesAndShutsDown) {
     async.submit(kView, scattered_requests(300));
     EXPECT_EQ(async.pending_requests(), 300u);
     EXPECT_EQ(async.cancel_pending(), 300u);
+    // An update queued now runs before every request not yet started: it names the first of
+    // each queued batch (the renderer splits its shots' placement records there).
+    std::vector<ShadeRequest> later = scattered_requests(50);
+    for (ShadeRequest& r : later) r.id += 1000;
+    async.submit(kView, scattered_requests(20));
+    async.submit(kView, later);
+    EXPECT_EQ(async.run_between_batches([] {}), (std::vector<uint32_t>{0u, 1000u}));
+    EXPECT_EQ(async.cancel_pending(), 70u);
+    EXPECT_TRUE(async.run_between_batches([] {}).empty());
     gate.set_value();
     async.wait_idle();
     taken.clear();
