@@ -11,7 +11,11 @@ and 0.2, means over the frames and seeds, with the range of the per-run means. T
   bench/render/async_along_path.py EPI REFS_DIR --seeds 1,2,3,4 --settings=-,--no-trace-ahead SCENE.gltf...
 
 A setting is extra `epi render` flags ("-": none). Options: --frames-at 15,25,35,45,55,59 (frame
-indices of the 60-frame path), --size 256, --budget 0.02.
+indices of the 60-frame path), --size 256, --budget 0.02. --targets: issue 9's figures for the
+asynchronous loop instead: beside the path, the still error at the same views (60 frames with
+the camera held at each chosen key, the last frame compared) and the render cache along the path
+(`--mode rendercache`); path over still (target at most 1.5), path over the render cache (at most
+0.75), the path's share of pixels over 0.2 (at most 0.3 %).
 """
 import argparse
 import json
@@ -55,14 +59,20 @@ def main():
     ap.add_argument("--frames-at", default="15,25,35,45,55,59")
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--budget", default="0.02")
+    ap.add_argument("--targets", action="store_true")
     a = ap.parse_args()
     frames_at = [int(k) for k in a.frames_at.split(",")]
     size = f"{a.size}x{a.size}"
     os.makedirs(a.refs, exist_ok=True)
     print(f"{size}, async, budget {a.budget}, frames {a.frames_at} of each 60-frame path, seeds {a.seeds}, "
           "64-spp references")
-    print("| scene | setting | runs | RMSE (mean, range of runs) | > 0.1 | > 0.2 |")
-    print("|---|---|---|---|---|---|")
+    if a.targets:
+        print("| scene | setting | runs | path RMSE | still RMSE | render cache RMSE | path / still | path / render cache "
+              "| > 0.2 path |")
+        print("|---|---|---|---|---|---|---|---|---|")
+    else:
+        print("| scene | setting | runs | RMSE (mean, range of runs) | > 0.1 | > 0.2 |")
+        print("|---|---|---|---|---|---|")
     for scene in a.scenes:
         name = os.path.splitext(os.path.basename(scene))[0]
         keys = camera_path(scene)
@@ -80,22 +90,57 @@ def main():
             refs[k] = ref
         for setting in a.settings.split(","):
             flags = [] if setting == "-" else setting.split()
-            runs = []
-            for seed in a.seeds.split(","):
-                work = tempfile.mkdtemp(prefix="epi_along_")
-                try:
-                    subprocess.run([a.epi, "render", scene, "--size", size, "--frames", "60", "--sample-budget", a.budget,
-                                    "--seed", seed, "--quiet", "--no-speedup", "--frames-out",
-                                    os.path.join(work, "f%d.exr"), "-o", os.path.join(work, "last.exr")] + flags,
-                                   check=True, stdout=subprocess.DEVNULL)
-                    errors = [compare(a.epi, os.path.join(work, f"f{k}.exr"), refs[k]) for k in frames_at]
-                finally:
-                    shutil.rmtree(work)
-                runs.append(tuple(statistics.mean(e[i] for e in errors) for i in range(3)))
-            rmse = [r[0] for r in runs]
             label = "default" if setting == "-" else setting
-            print(f"| {name} | {label} | {len(runs)} | {statistics.mean(rmse):.4f} ({min(rmse):.4f}-{max(rmse):.4f}) | "
-                  f"{statistics.mean(r[1] for r in runs):.2f} % | {statistics.mean(r[2] for r in runs):.2f} % |", flush=True)
+            path = along_path(a, scene, size, refs, flags)
+            if not a.targets:
+                rmse = [r[0] for r in path]
+                print(f"| {name} | {label} | {len(path)} | {statistics.mean(rmse):.4f} ({min(rmse):.4f}-{max(rmse):.4f}) | "
+                      f"{statistics.mean(r[1] for r in path):.2f} % | {statistics.mean(r[2] for r in path):.2f} % |", flush=True)
+                continue
+            still = held_at_keys(a, scene, size, keys, refs, flags)
+            rc = along_path(a, scene, size, refs, flags + ["--mode", "rendercache"])
+            mean = lambda runs, i=0: statistics.mean(r[i] for r in runs)
+            print(f"| {name} | {label} | {len(path)} | {mean(path):.4f} | {mean(still):.4f} | {mean(rc):.4f} | "
+                  f"{mean(path) / mean(still):.2f} | {mean(path) / mean(rc):.2f} | {mean(path, 2):.2f} % |", flush=True)
+
+
+def render(a, scene, size, seed, flags, work):
+    subprocess.run([a.epi, "render", scene, "--size", size, "--frames", "60", "--sample-budget", a.budget, "--seed", seed,
+                    "--quiet", "--no-speedup", "-o", os.path.join(work, "last.exr")] + flags,
+                   check=True, stdout=subprocess.DEVNULL)
+
+
+def along_path(a, scene, size, refs, flags):
+    """Per seed, the errors of the chosen frames of a run along the path, averaged over them."""
+    runs = []
+    for seed in a.seeds.split(","):
+        work = tempfile.mkdtemp(prefix="epi_along_")
+        try:
+            render(a, scene, size, seed, flags + ["--frames-out", os.path.join(work, "f%d.exr")], work)
+            errors = [compare(a.epi, os.path.join(work, f"f{k}.exr"), refs[k]) for k in refs]
+        finally:
+            shutil.rmtree(work)
+        runs.append(tuple(statistics.mean(e[i] for e in errors) for i in range(3)))
+    return runs
+
+
+def held_at_keys(a, scene, size, keys, refs, flags):
+    """Per seed, the last of 60 frames with the camera held at each chosen key, averaged over the keys."""
+    runs = []
+    vec = lambda v: ",".join(repr(float(x)) for x in v)
+    for seed in a.seeds.split(","):
+        errors = []
+        for k, ref in refs.items():
+            c = keys[k]
+            work = tempfile.mkdtemp(prefix="epi_still_")
+            try:
+                render(a, scene, size, seed, flags + ["--eye", vec(c["eye"]), "--target", vec(c["target"]), "--up",
+                                                      vec(c["up"]), "--fov", repr(float(c["yfov"]))], work)
+                errors.append(compare(a.epi, os.path.join(work, "last.exr"), ref))
+            finally:
+                shutil.rmtree(work)
+        runs.append(tuple(statistics.mean(e[i] for e in errors) for i in range(3)))
+    return runs
 
 
 if __name__ == "__main__":
