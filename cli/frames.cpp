@@ -258,8 +258,9 @@ int run_render_frames(const RenderOptions& options) {
   for (const render::FrameStageInfo& i : render::kFrameStages)
     if (i.loop || options.sync) std::printf(" %s %.1f |", i.label, median(series.stages[size_t(i.stage)]));
   std::printf(" total %.1f ms (%.1f fps)\n", frame_ms, frame_ms > 0.0 ? 1000.0 / frame_ms : 0.0);
-  std::printf("  %.0f samples per frame (sparseness %s) | pixels %.1f%% empty, %.1f%% simple, %.1f%% complex\n",
-              samples_per_frame, sparseness_text.c_str(),
+  std::printf("  %.0f samples per frame (sparseness %s, drawn %.1f frames after their request) | pixels %.1f%% empty, "
+              "%.1f%% simple, %.1f%% complex\n",
+              samples_per_frame, sparseness_text.c_str(), mean(series.result_lag),
               100.0 * mean(series.empty), 100.0 * mean(series.simple), 100.0 * mean(series.complex_pixels));
   std::printf("  shader: %llu rays, %.1f Mrays/s over %.0f ms of shading\n", (unsigned long long)rays, mrays_per_s,
               shading_seconds * 1e3);
