@@ -772,7 +772,8 @@ void Viewer::draw_overlay() {
   ImGui::Text("%s, %dx%d, %s shader", render::to_string(frame_.settings.mode), frame_.width, frame_.height,
               kShaderNames[int(frame_.settings.shader.kind)]);
   if (frame_.settings.mode == SessionMode::epi || frame_.settings.mode == SessionMode::rendercache) {
-    ImGui::Text("samples/frame %zu (asked %zu) | %.1f Mrays/s", frame_.stats.samples, frame_.stats.requested, frame_.mrays_per_second);
+    ImGui::Text("samples/frame %zu (asked %zu, lag %.1f) | %.1f Mrays/s", frame_.stats.samples, frame_.stats.requested,
+                frame_.stats.result_lag, frame_.mrays_per_second);
     ImGui::Text("cache %.1f%% of %zu points", frame_.cache_capacity ? 100.0 * double(frame_.cache_points) / double(frame_.cache_capacity) : 0.0,
                 frame_.cache_capacity);
   } else {
