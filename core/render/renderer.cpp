@@ -116,13 +116,13 @@ void FrameRenderer::apply_placement(std::span<const glm::mat4> object_to_world, 
   const std::vector<uint32_t> unstarted = async_->run_between_batches(std::move(apply));
   for (size_t k = 0; k < shots_.size(); ++k) {
     Shot& shot = shots_[k];
-    uint32_t split = shot.first_id + shot.count;  // the shot's first request not yet started
-    for (const uint32_t id : unstarted)
-      if (id - shot.first_id < shot.count) split = std::min(split, id);
-    if (split == shot.first_id + shot.count) continue;
+    uint32_t started = shot.count;  // the shot's requests before its first not yet started
+    for (const uint32_t id : unstarted)  // offsets from first_id, as integrate() matches ids (ids wrap)
+      if (id - shot.first_id < shot.count) started = std::min(started, id - shot.first_id);
+    if (started == shot.count) continue;
     Shot rest = shot;
-    rest.first_id = split, rest.count = shot.first_id + shot.count - split, rest.placement = placement_;
-    shot.count = split - shot.first_id;
+    rest.first_id = shot.first_id + started, rest.count = shot.count - started, rest.placement = placement_;
+    shot.count = started;
     if (shot.count == 0) shot = rest;
     else shots_.insert(shots_.begin() + ptrdiff_t(++k), rest);
   }
