@@ -195,7 +195,7 @@ int run_render_frames(const RenderOptions& options) {
       series.predicted.push_back(double(s.predicted));
       series.points_culled.push_back(double(s.points.culled)), series.points_occluded.push_back(double(s.points.occluded));
       series.holes_filled.push_back(double(s.holes_filled));
-      series.result_lag.push_back(s.result_lag);
+      if (s.samples > 0) series.result_lag.push_back(s.result_lag);  // frames that integrated results
       if (!options.frames_out.empty()) {
         const auto t = Clock::now();
         outputs.add_image(frame_file(options.frames_out, f), *image, options.exposure);

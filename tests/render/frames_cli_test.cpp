@@ -183,10 +183,12 @@ TEST(FramesCli, SparseOcclusionRadiusIsAKnobWithTheRenderersDefault) {
 }
 
 // --no-trace-ahead: a sync run integrates each frame's results in that frame (lag 0), so nothing
-// is extrapolated and the bytes are the same; the asynchronous loop reports its lag (about 2).
+// is extrapolated and the bytes are the same; the asynchronous loop reports its lag (about 2),
+// averaged over the frames that integrated results: at least one frame, however loaded the machine
+// (the frames before the first results came back once pulled the mean below 1 in a loaded CI run).
 TEST(FramesCli, TraceAheadLeavesSyncRunsAsTheyWereAndTheAsyncLoopReportsItsLag) {
   const fs::path dir = temp_dir();
-  const std::string base = "render " + std::string(EPI_SOURCE_DIR) + "/scenes/rooms.gltf --size 64x48 --frames 12 --quiet --no-speedup";
+  const std::string base = "render " + std::string(EPI_SOURCE_DIR) + "/scenes/rooms.gltf --size 64x48 --frames 40 --quiet --no-speedup";
   for (const auto& [args, name] : {std::pair{" --sync", "ahead"}, {" --sync --no-trace-ahead", "not"}, {"", "async"}}) {
     const EpiRun run = run_epi(base + args + " -o " + (dir / name).string() + ".exr --stats " + (dir / name).string() + ".json");
     ASSERT_EQ(run.exit_code, 0) << run.out;
@@ -194,8 +196,8 @@ TEST(FramesCli, TraceAheadLeavesSyncRunsAsTheyWereAndTheAsyncLoopReportsItsLag) 
   EXPECT_EQ(read_file(dir / "ahead.exr"), read_file(dir / "not.exr"));
   EXPECT_EQ(nlohmann::json::parse(read_file(dir / "ahead.json"))["result_lag_frames"].get<double>(), 0.0);
   const double lag = nlohmann::json::parse(read_file(dir / "async.json"))["result_lag_frames"].get<double>();
-  EXPECT_GT(lag, 0.5);
-  EXPECT_LT(lag, 12.0);
+  EXPECT_GE(lag, 1.0);
+  EXPECT_LT(lag, 40.0);
   fs::remove_all(dir);
 }
 
