@@ -11,6 +11,7 @@
 #define EPI_SIMD_INTERPOLATE_INL_H_
 #endif
 
+#include <algorithm>
 #include <cstring>
 
 #include <hwy/highway.h>
@@ -165,6 +166,70 @@ inline void InterpolateRowKernel(const InterpolateRow& row) {
 }
 inline void RenderCacheRowKernel(const InterpolateRow& row) {
   MeanRow(row, [](auto... a) { RenderCacheLanes(a...); });
+}
+
+// The fallback's whole-window mean (WindowMeanRow) for lanes x .. x + N - 1: interpolate.cpp's
+// whole_window_mean lane by lane, its 49 taps in its order (dy, then dx), a sample that is not
+// usable weighing +0 (and adding -0 x colour: unchanged, as the oracle's +0). Weights as the
+// oracle's window7_weights.
+template <class DF>
+HWY_INLINE void WindowMeanLanes(DF df, const WindowMeanRow& row, int x, hn::Mask<DF> take, float* rgb) {
+  const hn::RebindToSigned<DF> di;
+  auto sr = hn::Zero(df), sg = hn::Zero(df), sb = hn::Zero(df), total = hn::Zero(df);
+  for (int dy = -3; dy <= 3; ++dy) {
+    const size_t i = size_t(kPad + x - 3);
+    const float* red = row.red[dy + 3] + i;
+    const float* green = row.green[dy + 3] + i;
+    const float* blue = row.blue[dy + 3] + i;
+    for (int k = 0; k < 7; ++k) {
+      const float d = float(1 + (k - 3) * (k - 3) + dy * dy);
+      const auto r = hn::LoadU(df, red + k);
+      const auto unusable = hn::RebindMask(df, hn::Lt(hn::BitCast(di, r), hn::Zero(di)));
+      const auto w = hn::IfThenZeroElse(unusable, hn::Set(df, 1.0f / (d * d)));
+      sr = hn::Add(sr, hn::Mul(w, r));
+      sg = hn::Add(sg, hn::Mul(w, hn::LoadU(df, green + k)));
+      sb = hn::Add(sb, hn::Mul(w, hn::LoadU(df, blue + k)));
+      total = hn::Add(total, w);
+    }
+  }
+  const auto some = hn::Gt(total, hn::Zero(df));
+  const auto safe = hn::IfThenElse(some, total, hn::Set(df, 1.0f));
+  hn::Vec<DF> r0, g0, b0;
+  hn::LoadInterleaved3(df, rgb, r0, g0, b0);
+  const auto keep = hn::Not(take);
+  const auto mean = [&](hn::Vec<DF> sum, hn::Vec<DF> old) {
+    return hn::IfThenElse(keep, old, hn::IfThenElseZero(some, hn::Div(sum, safe)));
+  };
+  hn::StoreInterleaved3(mean(sr, r0), mean(sg, g0), mean(sb, b0), df, rgb);
+}
+
+// Vectors over [first, end) holding a pixel to take, the last partial one (past the row's end)
+// through a buffer; the planes' padding (zeros, a vector's worth and more) covers its loads.
+inline void WindowMeanRowKernel(const WindowMeanRow& row) {
+  const hn::ScalableTag<float> df;
+  const hn::RebindToSigned<decltype(df)> di;
+  const hn::Rebind<uint8_t, decltype(df)> d8;
+  const int n = int(hn::Lanes(df));
+  // take[x] beyond `end` is not the caller's: lanes from there on are left out.
+  const auto taken = [&](const uint8_t* take, int x) {
+    return hn::And(hn::RebindMask(df, hn::Ne(hn::PromoteTo(di, hn::LoadU(d8, take)), hn::Zero(di))),
+                   hn::FirstN(df, size_t(std::min(n, row.end - x))));
+  };
+  for (int x = row.first; x < row.end; x += n) {
+    if (x + n <= row.width) {
+      const auto take = taken(row.take + x, x);
+      if (!hn::AllFalse(df, take)) WindowMeanLanes(df, row, x, take, row.rgb + 3 * x);
+      continue;
+    }
+    constexpr int kMax = HWY_LANES(float);
+    const int rest = row.width - x;
+    HWY_ALIGN uint8_t take[kMax] = {};
+    HWY_ALIGN float rgb[3 * kMax] = {};
+    std::memcpy(take, row.take + x, size_t(rest));
+    std::memcpy(rgb, row.rgb + 3 * x, size_t(rest) * 12);
+    WindowMeanLanes(df, row, x, taken(take, x), rgb);
+    std::memcpy(row.rgb + 3 * x, rgb, size_t(rest) * 12);
+  }
 }
 
 }  // namespace HWY_NAMESPACE

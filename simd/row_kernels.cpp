@@ -22,7 +22,8 @@ namespace HWY_NAMESPACE {
 
 const RowKernels* KernelTable() {
   static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel, &ReachRowKernel, &RelationRowKernel, &ClassifyRowKernel,
-                                &AntialiasRowKernel, &DecodeRowKernel, &FillRowKernel, &RenderCacheRowKernel};
+                                &AntialiasRowKernel, &DecodeRowKernel, &FillRowKernel, &RenderCacheRowKernel,
+                                &WindowMeanRowKernel};
   return &table;
 }
 

@@ -36,6 +36,22 @@ struct InterpolateRow {
   float* priority;
 };
 
+// The interpolation fallback's mean over a whole 7x7 (interpolate.cpp, fallback_row: a pixel
+// that reached nothing in its 5x5, whose 7x7 lies inside the image, holds a sample and no edge):
+// the weighted mean, w = 1 / (1 + dx^2 + dy^2)^2, of the window's usable samples, black where
+// none is usable. Rows as InterpolateRow's, but seven: row k is image row y - 3 + k. The pixels
+// x in [first, end) with take[x] = 1 (none closer than 3 to the image's sides) get their
+// colour in rgb + 3 x; no other pixel of rgb is written.
+struct WindowMeanRow {
+  int width;
+  const float* red[7];  // negated where not usable, as InterpolateRow's
+  const float* green[7];
+  const float* blue[7];
+  const uint8_t* take;
+  int first, end;
+  float* rgb;
+};
+
 // What a pixel type shows on each side, for the neighbour relation of two adjacent pixels
 // (epi/tables.h, SideDescriptors: its primary region along the whole side, its secondary, or
 // both split at the crossing): by type, from[s] = 4 x the descriptor of side s (0 top, 1 right,
@@ -151,6 +167,7 @@ struct RowKernels {
   // the sampled flags and colours (rows 1-3), the own sample words (age); `usable` and `reach`
   // are not read. Outputs as interpolation's (found 0: the caller's fallback).
   void (*rendercache)(const InterpolateRow& row);
+  void (*window_mean)(const WindowMeanRow& row);
 };
 
 // The table of one target; 0: the best this CPU runs. Throws std::invalid_argument for a

@@ -180,11 +180,12 @@ void fallback_color(const EpiRows& rows, int x, int y, float rgb[3], bool blend_
   fallback_reaching(rows, x, y, reach_window7(rows.type_rows(), x, y), rgb, blend_near_edges);
 }
 
-void fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, bool blend_near_edges,
-                  FallbackScratch& scratch) {
+int fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, bool blend_near_edges,
+                 FallbackScratch& scratch, bool defer_whole_windows) {
   const int w = rows.width, h = rows.height;
+  scratch.whole_first = scratch.whole_end = 0;
   const auto* first = static_cast<const uint8_t*>(std::memchr(found, 0, size_t(w)));
-  if (!first) return;
+  if (!first) return 0;
   const int x_first = int(first - found);
   int x_last = w - 1;
   while (found[x_last]) --x_last;
@@ -202,6 +203,14 @@ void fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, 
     for (int x = xa; x < xb; ++x) edge_or[x] |= e[x], type_or[x] |= t[x];
   }
   const bool rows_inside = y >= 3 && y + 3 < h;
+  uint8_t* whole = nullptr;
+  if (defer_whole_windows) {
+    scratch.whole_window.resize(size_t(w));
+    whole = scratch.whole_window.data();
+    std::fill(whole + x_first, whole + x_last + 1, uint8_t(0));
+    scratch.whole_first = x_first, scratch.whole_end = x_last + 1;
+  }
+  int deferred = 0;
   for (int x = x_first; x <= x_last; ++x) {
     if (found[x]) continue;
     float* out = rgb + 3 * x;
@@ -210,11 +219,14 @@ void fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, 
     for (int k = std::max(0, x - 3); k <= std::min(w - 1, x + 3); ++k) edges |= edge_or[k], window_types |= type_or[k];
     if (!(edges & bits::kHasSample))  // a hole: fallback_color's first answer
       out[0] = out[1] = out[2] = 0.0f;
-    else if (window_types == kTypeEmpty && rows_inside && x >= 3 && x + 3 < w)  // (outside counts as complex)
-      whole_window_mean(rows, x, y, out);
-    else
+    else if (window_types == kTypeEmpty && rows_inside && x >= 3 && x + 3 < w) {  // (outside counts as complex)
+      if (whole) whole[x] = 1, ++deferred;
+      else whole_window_mean(rows, x, y, out);
+    } else {
       fallback_reaching(rows, x, y, reach_window7(types, x, y), out, blend_near_edges);
+    }
   }
+  return deferred;
 }
 
 float interpolate_pixel(const EpiRows& rows, int x, int y, uint32_t reach, float rgb[3], bool* found,

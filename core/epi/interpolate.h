@@ -46,12 +46,19 @@ void fallback_color(const EpiRows& rows, int x, int y, float rgb[3], bool blend_
 // windows' hole and edge tests read seven column ORs instead of 49 words, and an edge-free
 // window inside the image takes its weighted sum without a branch per sample. `scratch` keeps
 // the column ORs' storage (a thread's, between rows).
+//
+// With `defer_whole_windows` those edge-free windows inside the image are left to the caller's
+// vector kernel (simd::WindowMeanRow, the same bits): their pixels are marked 1 in
+// scratch.whole_window (0 elsewhere in [whole_first, whole_end)) and their colours left as
+// they were; returns how many were marked.
 struct FallbackScratch {
   std::vector<uint16_t> edge_or;  // per column: the edge words of rows y-3..y+3, ORed
   std::vector<uint8_t> type_or;   // per column: their types, ORed
+  std::vector<uint8_t> whole_window;  // deferred pixels (defer_whole_windows)
+  int whole_first = 0, whole_end = 0;  // the span of whole_window written this row
 };
-void fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, bool blend_near_edges,
-                  FallbackScratch& scratch);
+int fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, bool blend_near_edges,
+                 FallbackScratch& scratch, bool defer_whole_windows = false);
 
 
 // The paper's simple estimate: every sample of the 5x5, same kernel. Returns the total weight.

@@ -273,8 +273,18 @@ void interpolate_stage(RowJob& j, int y) {
   else j.kernels->interpolate(row);
   // Pixels that reached nothing (found 0; runs of them after motion): the oracle's fallback, row
   // by row, or the render cache's 7x7 prefilter where its 3x3 holds no sample.
+  // The edge-free 7x7 windows (most of those pixels) go to the vector kernel, the same bits.
   const bool by_rows = !rendercache && j.fallback;
-  if (by_rows) fallback_row(rows, y, found, colors, j.settings.blend_unreached_near_edges, *j.fallback);
+  if (by_rows && fallback_row(rows, y, found, colors, j.settings.blend_unreached_near_edges, *j.fallback, true) > 0) {
+    simd::WindowMeanRow mean{};
+    for (int k = 0; k < 7; ++k) {
+      const float* base = j.inside(y - 3 + k) ? j.samples.row(y - 3 + k) : j.zero_samples;
+      mean.green[k] = base, mean.blue[k] = base + plane, mean.red[k] = base + 4 * plane;
+    }
+    mean.width = j.width, mean.take = j.fallback->whole_window.data(), mean.rgb = colors;
+    mean.first = j.fallback->whole_first, mean.end = j.fallback->whole_end;
+    j.kernels->window_mean(mean);
+  }
   for (auto* p = static_cast<uint8_t*>(std::memchr(found, 0, size_t(j.width))); p;
        p = static_cast<uint8_t*>(std::memchr(p + 1, 0, size_t(found + j.width - p - 1)))) {
     const int x = int(p - found);

@@ -50,9 +50,10 @@ inline constexpr std::array<StageInfo, kStageCount> kStages = {{
     {Stage::decode, "decode", "reconstruct.cpp", "1x1", Plane::samples, {{{Plane::edge, 0}, {Plane::types, 0}}}, 2},
     {Stage::reachability, "reachability", "reachability.cpp", "5x5", Plane::reach,
      {{{Plane::types, 2}, {Plane::samples, 2}}}, 2},
-    // 7x7 types and edge words for the fallback (reach_window7), the own reach mask.
+    // 7x7 types, edge words and decoded samples for the fallback (reach_window7, the whole-window
+    // mean's kernel), the own reach mask.
     {Stage::interpolate, "interpolate", "interpolate.cpp", "5x5 (7x7 fallback)", Plane::interp,
-     {{{Plane::types, 3}, {Plane::edge, 3}, {Plane::reach, 0}, {Plane::samples, 2}}}, 4},
+     {{{Plane::types, 3}, {Plane::edge, 3}, {Plane::reach, 0}, {Plane::samples, 3}}}, 4},
     {Stage::fill, "fill", "fill.cpp", "5x5", Plane::filled, {{{Plane::interp, 2}, {Plane::reach, 0}}}, 2},
     {Stage::antialias, "antialias", "antialias.cpp", "3x3", Plane::image,
      {{{Plane::filled, 1}, {Plane::types, 0}, {Plane::edge, 0}}}, 3},

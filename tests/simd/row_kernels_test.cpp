@@ -1,10 +1,12 @@
-// The anti-aliasing and fill row kernels of every compiled target, called directly on
+// The anti-aliasing, fill and fallback-mean row kernels of every compiled target, called directly on
 // random rows, against their per-pixel oracles (antialias_pixel, fill_pixel) bit for bit. The
 // frames of kernels_test.cpp hold few simple pixels and fewer unfound ones; here every pixel
 // may be simple (or unfound), every edge code and neighbour occurs, rows above and below are
 // missing in every combination and widths run across the vector and chunk sizes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <string>
@@ -13,7 +15,10 @@
 #include <hwy/targets.h>
 
 #include "epi/antialias.h"
+#include "epi/epi_pixel.h"
 #include "epi/fill.h"
+#include "epi/geometry.h"
+#include "epi/interpolate.h"
 #include "epi/rows.h"
 #include "epi/tables.h"
 #include "simd/row_kernels.h"
@@ -128,6 +133,66 @@ TEST_P(RowKernels, FillEqualsTheOracle) {
           ASSERT_TRUE(same_bits(&expected[size_t(3 * x)], own + 3 * x, 3)) << "in place, pixel " << x;
       }
   EXPECT_GT(filled, 4000);
+}
+
+// The fallback's whole-window mean (simd::WindowMeanRow) against fallback_color, whose answer
+// for an edge-free 7x7 inside the image it is: seven rows of edge-free pixels, samples from none
+// to all of them and usable from none to all of those (black where the window holds no usable
+// sample), random pixels taken; the pixels not taken, and those beyond `end`, keep their colour.
+TEST_P(RowKernels, WindowMeanEqualsTheFallback) {
+  std::mt19937_64 rng(33);
+  const auto& lut = epi_color8_to_linear();
+  int64_t coloured = 0, black = 0;
+  for (int w : kWidths)
+    for (double sampled_share : {0.0, 0.02, 0.2, 1.0})
+      for (double usable_share : {0.0, 0.5, 1.0})
+        for (double take_share : {0.1, 1.0}) {
+          SCOPED_TRACE("width " + std::to_string(w) + ", sampled " + std::to_string(sampled_share) + ", usable " +
+                       std::to_string(usable_share) + ", taken " + std::to_string(take_share));
+          constexpr int kRows = 7;
+          const size_t plane = size_t(w) + 2 * simd::kPad + 64;
+          std::vector<uint16_t> edge(size_t(kRows * w));
+          std::vector<uint32_t> color(size_t(kRows * w));
+          const std::vector<uint8_t> types(size_t(kRows * w), uint8_t(kTypeEmpty));
+          std::vector<float> red(kRows * plane, -0.0f), green(kRows * plane, 0.0f), blue(kRows * plane, 0.0f);
+          std::bernoulli_distribution sampled(sampled_share), usable(usable_share), taken(take_share);
+          simd::WindowMeanRow row{};
+          for (int k = 0; k < kRows; ++k) {
+            for (int x = 0; x < w; ++x) {
+              const size_t i = size_t(k * w + x), p = size_t(k) * plane + simd::kPad + size_t(x);
+              const bool has = sampled(rng), use = has && usable(rng);
+              edge[i] = uint16_t((rng() & 0x3fff) | (has ? bits::kHasSample : 0) | (use ? bits::kUsable : 0));
+              color[i] = uint32_t(rng());
+              red[p] = std::copysign(lut[color[i] & 255], use ? 1.0f : -1.0f);
+              green[p] = lut[(color[i] >> 8) & 255], blue[p] = lut[(color[i] >> 16) & 255];
+            }
+            row.red[k] = red.data() + size_t(k) * plane, row.green[k] = green.data() + size_t(k) * plane;
+            row.blue[k] = blue.data() + size_t(k) * plane;
+          }
+          // Taken: interior pixels at random, within [first, end); marks outside it are stray.
+          std::vector<uint8_t> take(size_t(w), 1);
+          const int first = std::min(w, 3 + int(rng() % 5)), end = std::max(first, w - 3 - int(rng() % 5));
+          for (int x = first; x < end; ++x) take[size_t(x)] = taken(rng);
+          std::vector<float> out(3 * size_t(w)), before;
+          for (float& c : out) c = float(rng() % 1000) - 2000.0f;
+          before = out;
+          row.width = w, row.take = take.data(), row.first = first, row.end = end, row.rgb = out.data();
+          kernels().window_mean(row);
+          const EpiRows rows{edge.data(), types.data(), color.data(), w, kRows};
+          for (int x = 0; x < w; ++x) {
+            const float* got = &out[3 * size_t(x)];
+            if (x < first || x >= end || !take[size_t(x)]) {
+              ASSERT_TRUE(same_bits(got, &before[3 * size_t(x)], 3)) << "pixel " << x << " not taken but written";
+              continue;
+            }
+            float want[3];
+            fallback_color(rows, x, 3, want);
+            ASSERT_TRUE(same_bits(got, want, 3)) << "pixel " << x << ": " << got[0] << " against " << want[0];
+            (want[0] + want[1] + want[2] > 0 ? coloured : black) += 1;
+          }
+        }
+  EXPECT_GT(coloured, 5000);
+  EXPECT_GT(black, 1000);
 }
 
 std::string target_name(const testing::TestParamInfo<int64_t>& info) { return hwy::TargetName(info.param); }
