@@ -169,9 +169,11 @@ inline void RenderCacheRowKernel(const InterpolateRow& row) {
 }
 
 // The fallback's whole-window mean (WindowMeanRow) for lanes x .. x + N - 1: interpolate.cpp's
-// whole_window_mean lane by lane, its 49 taps in its order (dy, then dx), a sample that is not
+// whole_window_mean lane by lane, its taps in its order (dy, then dx), a sample that is not
 // usable weighing +0 (and adding -0 x colour: unchanged, as the oracle's +0). Weights as the
-// oracle's window7_weights.
+// oracle's window7_weights. Only the outer ring's 24 taps: a taken pixel reached no usable
+// sample in its edge-free 5x5 (WindowMeanRow), so the inner 25 would each add +0 or -0 to sums
+// that start at +0 and never go negative, which changes no bit.
 template <class DF>
 HWY_INLINE void WindowMeanLanes(DF df, const WindowMeanRow& row, int x, hn::Mask<DF> take, float* rgb) {
   const hn::RebindToSigned<DF> di;
@@ -182,6 +184,7 @@ HWY_INLINE void WindowMeanLanes(DF df, const WindowMeanRow& row, int x, hn::Mask
     const float* green = row.green[dy + 3] + i;
     const float* blue = row.blue[dy + 3] + i;
     for (int k = 0; k < 7; ++k) {
+      if (dy > -3 && dy < 3 && k > 0 && k < 6) continue;  // the inner 5x5: no usable sample
       const float d = float(1 + (k - 3) * (k - 3) + dy * dy);
       const auto r = hn::LoadU(df, red + k);
       const auto unusable = hn::RebindMask(df, hn::Lt(hn::BitCast(di, r), hn::Zero(di)));
@@ -215,7 +218,8 @@ inline void WindowMeanRowKernel(const WindowMeanRow& row) {
     return hn::And(hn::RebindMask(df, hn::Ne(hn::PromoteTo(di, hn::LoadU(d8, take)), hn::Zero(di))),
                    hn::FirstN(df, size_t(std::min(n, row.end - x))));
   };
-  for (int x = row.first; x < row.end; x += n) {
+  // No pixel closer than 3 to the left side is taken: vectors from there read no padding's left.
+  for (int x = std::max(row.first, 3); x < row.end; x += n) {
     if (x + n <= row.width) {
       const auto take = taken(row.take + x, x);
       if (!hn::AllFalse(df, take)) WindowMeanLanes(df, row, x, take, row.rgb + 3 * x);

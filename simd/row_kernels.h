@@ -40,8 +40,9 @@ struct InterpolateRow {
 // that reached nothing in its 5x5, whose 7x7 lies inside the image, holds a sample and no edge):
 // the weighted mean, w = 1 / (1 + dx^2 + dy^2)^2, of the window's usable samples, black where
 // none is usable. Rows as InterpolateRow's, but seven: row k is image row y - 3 + k. The pixels
-// x in [first, end) with take[x] = 1 (none closer than 3 to the image's sides) get their
-// colour in rgb + 3 x; no other pixel of rgb is written.
+// x in [first, end) with take[x] = 1 (none closer than 3 to the image's sides, none with a
+// usable sample in its 5x5: they reached nothing there) get their colour in rgb + 3 x; no other
+// pixel of rgb is written. The kernel reads only the 7x7's outer ring.
 struct WindowMeanRow {
   int width;
   const float* red[7];  // negated where not usable, as InterpolateRow's

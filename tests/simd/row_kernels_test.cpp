@@ -138,7 +138,8 @@ TEST_P(RowKernels, FillEqualsTheOracle) {
 // The fallback's whole-window mean (simd::WindowMeanRow) against fallback_color, whose answer
 // for an edge-free 7x7 inside the image it is: seven rows of edge-free pixels, samples from none
 // to all of them and usable from none to all of those (black where the window holds no usable
-// sample), random pixels taken; the pixels not taken, and those beyond `end`, keep their colour.
+// sample), random pixels taken, none with a usable sample in its 5x5 (as the fallback's pixels:
+// they reached nothing there); the pixels not taken, and those beyond `end`, keep their colour.
 TEST_P(RowKernels, WindowMeanEqualsTheFallback) {
   std::mt19937_64 rng(33);
   const auto& lut = epi_color8_to_linear();
@@ -172,16 +173,28 @@ TEST_P(RowKernels, WindowMeanEqualsTheFallback) {
           // Taken: interior pixels at random, within [first, end); marks outside it are stray.
           std::vector<uint8_t> take(size_t(w), 1);
           const int first = std::min(w, 3 + int(rng() % 5)), end = std::max(first, w - 3 - int(rng() % 5));
+          // The span may start left of the first pixel that can be taken (the row's first unfound pixel).
+          const int span_first = int(rng() % 4);
+          for (int x = 0; x < first; ++x) take[size_t(x)] = x >= 3 && x + 3 < w && taken(rng);  // within the span
           for (int x = first; x < end; ++x) take[size_t(x)] = taken(rng);
+          // A taken pixel reached nothing in its 5x5 (the kernel's precondition): no usable sample there.
+          for (int x = 3; x < end; ++x)
+            if (take[size_t(x)])
+              for (int k = 1; k < kRows - 1; ++k)
+                for (int px = x - 2; px <= x + 2; ++px) {
+                  const size_t i = size_t(k * w + px), p = size_t(k) * plane + simd::kPad + size_t(px);
+                  edge[i] &= uint16_t(~bits::kUsable);
+                  red[p] = -std::abs(red[p]);
+                }
           std::vector<float> out(3 * size_t(w)), before;
           for (float& c : out) c = float(rng() % 1000) - 2000.0f;
           before = out;
-          row.width = w, row.take = take.data(), row.first = first, row.end = end, row.rgb = out.data();
+          row.width = w, row.take = take.data(), row.first = std::min(span_first, first), row.end = end, row.rgb = out.data();
           kernels().window_mean(row);
           const EpiRows rows{edge.data(), types.data(), color.data(), w, kRows};
           for (int x = 0; x < w; ++x) {
             const float* got = &out[3 * size_t(x)];
-            if (x < first || x >= end || !take[size_t(x)]) {
+            if (x < 3 || x >= end || !take[size_t(x)]) {
               ASSERT_TRUE(same_bits(got, &before[3 * size_t(x)], 3)) << "pixel " << x << " not taken but written";
               continue;
             }
