@@ -41,6 +41,13 @@ def camera_path(scene):
     return keys
 
 
+def camera_flags(key):
+    """`epi render` flags for one camera key of the path."""
+    vec = lambda v: ",".join(repr(float(x)) for x in v)
+    return ["--eye", vec(key["eye"]), "--target", vec(key["target"]), "--up", vec(key["up"]), "--fov",
+            repr(float(key["yfov"]))]
+
+
 def compare(epi, image, reference):
     out = subprocess.run([epi, "compare", image, reference], check=True, capture_output=True, text=True).stdout
     m = COMPARE.search(out)
@@ -82,11 +89,8 @@ def main():
         for k in frames_at:
             ref = os.path.join(a.refs, f"{name}_{size}_64spp_key{k}.exr")
             if not os.path.exists(ref):
-                c = keys[k]
-                vec = lambda v: ",".join(repr(float(x)) for x in v)
-                subprocess.run([a.epi, "render", scene, "--mode", "reference", "--spp", "64", "--size", size, "--eye",
-                                vec(c["eye"]), "--target", vec(c["target"]), "--up", vec(c["up"]), "--fov",
-                                repr(float(c["yfov"])), "--quiet", "-o", ref], check=True, stdout=subprocess.DEVNULL)
+                subprocess.run([a.epi, "render", scene, "--mode", "reference", "--spp", "64", "--size", size] +
+                               camera_flags(keys[k]) + ["--quiet", "-o", ref], check=True, stdout=subprocess.DEVNULL)
             refs[k] = ref
         for setting in a.settings.split(","):
             flags = [] if setting == "-" else setting.split()
@@ -127,15 +131,12 @@ def along_path(a, scene, size, refs, flags):
 def held_at_keys(a, scene, size, keys, refs, flags):
     """Per seed, the last of 60 frames with the camera held at each chosen key, averaged over the keys."""
     runs = []
-    vec = lambda v: ",".join(repr(float(x)) for x in v)
     for seed in a.seeds.split(","):
         errors = []
         for k, ref in refs.items():
-            c = keys[k]
             work = tempfile.mkdtemp(prefix="epi_still_")
             try:
-                render(a, scene, size, seed, flags + ["--eye", vec(c["eye"]), "--target", vec(c["target"]), "--up",
-                                                      vec(c["up"]), "--fov", repr(float(c["yfov"]))], work)
+                render(a, scene, size, seed, flags + camera_flags(keys[k]), work)
                 errors.append(compare(a.epi, os.path.join(work, "last.exr"), ref))
             finally:
                 shutil.rmtree(work)
