@@ -1,5 +1,5 @@
 // The anti-aliasing, fill and fallback-mean row kernels of every compiled target, called directly on
-// random rows, against their per-pixel oracles (antialias_pixel, fill_pixel) bit for bit. The
+// random rows, against their per-pixel oracles (antialias_pixel, fill_pixel, fallback_color) bit for bit. The
 // frames of kernels_test.cpp hold few simple pixels and fewer unfound ones; here every pixel
 // may be simple (or unfound), every edge code and neighbour occurs, rows above and below are
 // missing in every combination and widths run across the vector and chunk sizes.
