@@ -158,6 +158,7 @@ int run_render_frames(const RenderOptions& options) {
   settings.soft_shadow_edges = options.soft_shadow_edges;
   settings.trace_ahead = options.trace_ahead;
   if (options.sparse_occlusion_radius) settings.cache.sparse_occlusion_radius = *options.sparse_occlusion_radius;
+  if (options.new_occluder_radius) settings.cache.new_occluder_radius = *options.new_occluder_radius;
   std::optional<render::FrameRenderer> renderer;  // reset before the ray trace that measures the speed-up
   renderer.emplace(scene, ray_scene, shader, settings);
   const double build_ms = ms_since(stage);

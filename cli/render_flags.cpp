@@ -128,6 +128,12 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
                    "surface magnified by motion is sampled sparsely; docs/render.md). Default 4; 2 turns this "
                    "off: a faster points stage, but far points may show through such surfaces")
         ->check(CLI::Range(2, 8));
+    app.add_option("--new-occluder-radius", render.new_occluder_radius,
+                   "epi mode: pixels within which a lone point whose result landed in front of the point drawn at "
+                   "its pixel (a surface that has just come in front, as an object sweeping across the view) hides "
+                   "the points behind it for a few frames (docs/render.md). Default 8; at most the sparse radius "
+                   "turns this off")
+        ->check(CLI::Range(2, 15));
   } else {
     render.mode = "reference";  // built without the frame loop
     app.add_option("--mode", render.mode, "reference: converged, --spp samples per pixel; raytrace: 1 sample per pixel")

@@ -60,6 +60,7 @@ struct RenderOptions {
   // epi mode: how far a lone nearer point hides what lies behind it (PointCacheSettings; render.md,
   // "Sparse near surfaces"); 2, the dense radius, turns the sparse rule off. Unset: the renderer's.
   std::optional<int> sparse_occlusion_radius;
+  std::optional<int> new_occluder_radius;
   std::string reference;       // image to compare the written frame with (all modes); empty: none
   bool speedup = true;         // epi, rendercache: time a 1-spp ray trace of the last view
 };

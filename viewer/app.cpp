@@ -138,6 +138,7 @@ class Viewer {
     s.frame.soft_shadow_edges = options.render.soft_shadow_edges;
     s.frame.trace_ahead = options.render.trace_ahead;
     if (options.render.sparse_occlusion_radius) s.frame.cache.sparse_occlusion_radius = *options.render.sparse_occlusion_radius;
+    if (options.render.new_occluder_radius) s.frame.cache.new_occluder_radius = *options.render.new_occluder_radius;
     s.shader = cli::shader_settings(options.render);
     s.reference_spp = options.render.spp;
     s.threads = options.render.threads;

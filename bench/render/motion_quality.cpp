@@ -11,14 +11,14 @@
 // (hidden red, colour yellow, near hidden magenta, other blue) over the dimmed frame.
 // --runs picks the runs (comma-separated: path, still, rc; all three by default). --reference-dir
 // keeps each scene's reference there (SCENE_N_Sspp_FRAMES.exr, the same for every seed) and reads
-// it back on later runs. --occlusion-radius and --sparse-occlusion-radius set the PointCacheSettings
+// it back on later runs. --occlusion-radius, --sparse-occlusion-radius and --new-occluder-radius set the PointCacheSettings
 // of that name (0 turns the sparse test off); --times adds a column, the median ms per frame of the
 // points stage (insert, project, culls, fill; docs/render.md). --as-async sets
 // FrameSettings::sync_as_async: requests made for the view that chose them and shaded a frame
 // later, as the viewer's asynchronous loop does (deterministic). --no-trace-ahead turns
 // FrameSettings::trace_ahead off (requests traced through the camera that chose them).
 // Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs LIST] [--reference-dir DIR]
-//        [--occlusion-radius N] [--sparse-occlusion-radius N] [--as-async] [--no-trace-ahead] [--times] [--out DIR] SCENE.gltf...
+//        [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--times] [--out DIR] SCENE.gltf...
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -59,6 +59,7 @@ struct Options {
   std::string reference_dir;
   int occlusion_radius = -1;  // PointCacheSettings::occlusion_radius (-1: the default)
   int sparse_occlusion_radius = -1;  // PointCacheSettings::sparse_occlusion_radius (-1: the default, 0: off)
+  int new_occluder_radius = -1;      // PointCacheSettings::new_occluder_radius (-1: the default, 0: off)
   bool times = false;  // --times: a last column, the points stage's median ms per frame
   bool as_async = false;  // --as-async: FrameSettings::sync_as_async
   bool trace_ahead = true;  // --no-trace-ahead: FrameSettings::trace_ahead off
@@ -72,6 +73,7 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
   s.trace_ahead = o.trace_ahead;
   if (o.occlusion_radius >= 0) s.cache.occlusion_radius = o.occlusion_radius;
   if (o.sparse_occlusion_radius >= 0) s.cache.sparse_occlusion_radius = o.sparse_occlusion_radius;
+  if (o.new_occluder_radius >= 0) s.cache.new_occluder_radius = o.new_occluder_radius;
   FrameRenderer renderer(scene, ray_scene, shader, s);
   const CameraPath path = scene_camera_path(scene, o.frames);
   const Camera last = path.camera_at(o.frames - 1);
@@ -164,6 +166,7 @@ int run_all(int argc, char** argv) {
     else if (a == "--reference-dir") o.reference_dir = value();
     else if (a == "--occlusion-radius") o.occlusion_radius = std::stoi(value());
     else if (a == "--sparse-occlusion-radius") o.sparse_occlusion_radius = std::stoi(value());
+    else if (a == "--new-occluder-radius") o.new_occluder_radius = std::stoi(value());
     else if (a == "--times") o.times = true;
     else if (a == "--as-async") o.as_async = true;
     else if (a == "--no-trace-ahead") o.trace_ahead = false;
@@ -171,7 +174,7 @@ int run_all(int argc, char** argv) {
     else scenes.push_back(a);
   }
   if (scenes.empty() || o.size < 8 || o.frames < 1 || !(o.budget > 0.0 && o.budget <= 1.0)) {
-    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--as-async] [--no-trace-ahead] [--times] [--out DIR] SCENE.gltf...\n");
+    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--times] [--out DIR] SCENE.gltf...\n");
     return 2;
   }
   if (!o.out.empty()) std::filesystem::create_directories(o.out);

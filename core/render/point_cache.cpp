@@ -109,13 +109,15 @@ uint8_t encode_epi_color8_by_steps(float linear) {
 
 PointCache::PointCache(int width, int height, const PointCacheSettings& settings) : settings_(settings) {
   if (width <= 0 || height <= 0) throw std::invalid_argument("point cache: image size is not positive");
-  if (settings.occlusion_radius > kMaxOcclusionRadius || settings.sparse_occlusion_radius > kMaxOcclusionRadius)
+  if (settings.occlusion_radius > kMaxOcclusionRadius || settings.sparse_occlusion_radius > kMaxOcclusionRadius ||
+      settings.new_occluder_radius > kMaxOcclusionRadius)
     throw std::invalid_argument("point cache: occlusion radius above 15");
   static_assert(kMaxOcclusionRadius == 15, "the message above names the limit");
   const double capacity = std::ceil(double(width) * double(height) * std::max(1.0, settings.capacity_factor));
   if (capacity > double(kIndexMask)) throw std::invalid_argument("point cache: image too large");
   points_.resize(size_t(capacity));
   colours_.resize(size_t(capacity));
+  seeded_at_.assign(size_t(capacity), 0);
   free_slots_.reserve(points_.size());
   for (size_t i = points_.size(); i-- > 0;) free_slots_.push_back(uint32_t(i));
   const size_t pixels = size_t(width) * size_t(height);
@@ -159,6 +161,11 @@ uint8_t PointCache::view_staleness(const CachePoint& p, float view_share, const 
 }
 
 ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull) {
+  ++projections_;
+  // New occluders' list: only the marks still current (slot not reused, within their frames).
+  std::erase_if(recent_occluders_, [&](const std::pair<uint32_t, uint32_t>& e) {
+    return seeded_at_[e.first] != e.second || !new_occluder(e.first);
+  });
   if (settings_.reference_path) return project_reference(frame, object_to_world, depth_cull);
   const int w = image_.width, h = image_.height;
   if (frame.view().width != w || frame.view().height != h)
@@ -404,7 +411,7 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
   // The means see the z-buffer's winners: culled pixels are listed per band, removed after.
   const float *depth = image_.depth.data(), *min_depth = min_depth_.data();
   const int32_t* point = image_.point.data();
-  for_candidates([=](size_t i) { return (depth[i] > min_depth[i] * cull_scale) & (point[i] >= 0); },
+  for_candidates([=](size_t i, int, int) { return (depth[i] > min_depth[i] * cull_scale) & (point[i] >= 0); },
                  [&](int x, int y, std::vector<uint32_t>& culled) {
         const size_t i = image_.index(x, y);
         double sum = 0.0;
@@ -556,12 +563,21 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
 
     // The point drawn where this result lands in the last projection: replaced if it is the same surface.
     int32_t replace = -1;
+    bool in_front_of_drawn = false;  // a new occluder (PointCacheSettings::new_occluder_radius)
     if (last_frame_) {
       const Projection proj = last_frame_->project(world);
       if (proj.in_front() && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f && proj.pixel.x < float(w) &&
           proj.pixel.y < float(h)) {
         const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
         const int32_t old = image_.point[image_.index(px, py)];
+        // The z-buffer's winner, before the culls: where the occlusion test emptied a pixel behind a
+        // new occluder's earlier samples, the result still lands in front of what was there.
+        const int32_t winner = winners_[image_.index(px, py)];
+        if (winner >= 0 && r.hit && point.object != kNone && points_[size_t(winner)].valid && points_[size_t(winner)].age != 0) {
+          const CachePoint& w0 = points_[size_t(winner)];
+          const float winner_depth = last_frame_->project(world_position(w0, *last_frame_, last_transforms_)).depth;
+          in_front_of_drawn = proj.depth * (1.0f + kNewOccluderMargin) < winner_depth;
+        }
         // (age 0: the slot was given to a result since the projection: not the point drawn there)
         if (old >= 0 && points_[size_t(old)].valid && points_[size_t(old)].age != 0 &&
             points_[size_t(old)].object == point.object &&
@@ -594,6 +610,10 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
               }
           }
         }
+      } else {
+        // Outside the last projection's image: a surface coming into view (an object sweeping in
+        // from the image's side) stands in front of whatever this projection draws there.
+        in_front_of_drawn = r.hit && point.object != kNone;
       }
       // The ray is evidence that what lies behind its hit along it is hidden from the shot's eye:
       // a point of the last projection there (within kRadius of the ray, farther by a margin)
@@ -618,6 +638,8 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
     }
     const size_t slot = replace >= 0 ? size_t(replace) : take_slot();
     points_[slot] = point, colours_[slot] = colour;
+    seeded_at_[slot] = in_front_of_drawn ? projections_ + 1 : 0;
+    if (in_front_of_drawn && new_occluder_rule()) recent_occluders_.push_back({uint32_t(slot), projections_ + 1});
     ++inserted;
   }
   return inserted;
@@ -642,7 +664,7 @@ bool PointCache::refines(const CachePoint& cached, const PointColour& cached_col
 
 bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                            const EdgeCrossings& crossings, int x, int y, bool dense_window,
-                                           bool sparse_ring) const {
+                                           bool sparse_ring, bool occluder_ring) const {
   const int w = image_.width, h = image_.height, dense = std::max(1, settings_.occlusion_radius);
   const int radius = std::max(dense, settings_.sparse_occlusion_radius);
   const float scale = 1.0f + settings_.occlusion_margin;
@@ -728,6 +750,19 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
   for (int qx = std::max(x0, x - dense); qx <= std::min(x1, x + dense); ++qx) inner |= uint32_t(1) << (qx - x0);
   for (int qy = y0; qy <= y1; ++qy)
     if (consider_bits(image_.index(x0, qy), masks[qy - y0] & ~(std::abs(qy - y) <= dense ? inner : 0))) return true;
+  if (any_behind()) return true;
+  if (!occluder_ring || !any_new_occluder_) return false;
+  // Beyond the sparse radius, up to new_occluder_radius: the lone points that are new occluders
+  // (mark_alone's occluder_depth_), the sparse window's pixels skipped (tested above).
+  const int far = settings_.new_occluder_radius;
+  const int fx0 = std::max(0, x - far), fx1 = std::min(w - 1, x + far);
+  const int fy0 = std::max(0, y - far), fy1 = std::min(h - 1, y + far);
+  lone_window_masks(&occluder_depth_[image_.index(fx0, fy0)], &neighbour_min_depth_[image_.index(fx0, fy0)], size_t(w),
+                    fy1 - fy0 + 1, fx1 - fx0 + 1, scale, depth, masks);
+  uint32_t sparse_columns = 0;
+  for (int qx = x0; qx <= x1; ++qx) sparse_columns |= uint32_t(1) << (qx - fx0);
+  for (int qy = fy0; qy <= fy1; ++qy)
+    if (consider_bits(image_.index(fx0, qy), masks[qy - fy0] & ~(qy >= y0 && qy <= y1 ? sparse_columns : 0))) return true;
   return any_behind();
 }
 
@@ -745,24 +780,59 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   window_min_depth(radius);
   const bool sparse = mark_alone();
   if (sparse) window_min(alone_depth_, settings_.sparse_occlusion_radius, sparse_min_depth_);
+  near_occluders(sparse && any_new_occluder_);
   // The test sees the image before the pass: hidden pixels are listed per band, removed after.
   const float *depth = image_.depth.data(), *min_depth = min_depth_.data();
   const float* sparse_min = sparse ? sparse_min_depth_.data() : min_depth;
+  const float* occluder_near = occluder_near_.data();
   const int32_t* point = image_.point.data();
-  for_candidates([=](size_t i) { return (std::min(min_depth[i], sparse_min[i]) * scale < depth[i]) & (point[i] >= 0); },
-                 [&](int x, int y, std::vector<uint32_t>& hidden) {
+  for_candidates([=](size_t i, int, int) {
+    return (std::min({min_depth[i], sparse_min[i], occluder_near[i]}) * scale < depth[i]) & (point[i] >= 0);
+  }, [&](int x, int y, std::vector<uint32_t>& hidden) {
     // A window whose least depth is not nearer by the margin cannot hold the nearer point.
     const size_t i = image_.index(x, y);
+    const bool occluder_ring = occluder_near[i] * scale < depth[i];
     if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y, min_depth[i] * scale < depth[i],
-                                  sparse_min[i] * scale < depth[i]))
+                                  sparse_min[i] * scale < depth[i] || occluder_ring, occluder_ring))
       hidden.push_back(uint32_t(i));
   }, [&](size_t i) { __builtin_prefetch(&points_[size_t(point[i])]); });  // the record p's exact position is made from
   return remove_listed();
 }
 
+void PointCache::near_occluders(bool any) {
+  // New occluders are few: each one's depth goes to the 3x3 cells around its own (cells of 8 or
+  // 16 pixels, at least the radius: they hold every pixel within it), and each cell so reached is
+  // filled with its least depth. Only the cells reached last time are reset, and nothing else of
+  // the plane is touched: no pass over the image.
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const int w = image_.width, h = image_.height, shift = settings_.new_occluder_radius <= 8 ? 3 : 4;
+  const int cells_x = ((w - 1) >> shift) + 1, cells_y = ((h - 1) >> shift) + 1;
+  occluder_near_.resize(image_.point.size(), kInf);
+  occluder_cells_.resize(size_t(cells_x) * size_t(cells_y), kInf);
+  auto fill = [&](uint32_t cell, float value) {
+    const int cx = int(cell % uint32_t(cells_x)) << shift, cy = int(cell / uint32_t(cells_x)) << shift;
+    for (int y = cy; y < std::min(h, cy + (1 << shift)); ++y)
+      std::fill_n(&occluder_near_[image_.index(cx, y)], std::min(w, cx + (1 << shift)) - cx, value);
+  };
+  for (const uint32_t cell : occluder_cells_reached_) fill(cell, kInf), occluder_cells_[cell] = kInf;
+  occluder_cells_reached_.clear();
+  if (!any) return;
+  for (const uint32_t i : occluder_pixels_) {
+    const int cx = int(i % uint32_t(w)) >> shift, cy = int(i / uint32_t(w)) >> shift;
+    for (int ny = std::max(0, cy - 1); ny <= std::min(cells_y - 1, cy + 1); ++ny)
+      for (int nx = std::max(0, cx - 1); nx <= std::min(cells_x - 1, cx + 1); ++nx) {
+        const uint32_t cell = uint32_t(ny * cells_x + nx);
+        if (occluder_cells_[cell] == kInf) occluder_cells_reached_.push_back(cell);
+        occluder_cells_[cell] = std::min(occluder_cells_[cell], occluder_depth_[i]);
+      }
+  }
+  for (const uint32_t cell : occluder_cells_reached_) fill(cell, occluder_cells_[cell]);
+}
+
 bool PointCache::mark_alone() {
   const int w = image_.width, h = image_.height;
   const size_t n = image_.point.size();
+  any_new_occluder_ = false;
   if (settings_.sparse_occlusion_radius <= std::max(1, settings_.occlusion_radius)) return false;
   // Padded: lone_window_masks reads past a window's last pixel (the padding's values are unused).
   constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -775,6 +845,20 @@ bool PointCache::mark_alone() {
                   y + 1 < h ? &image_.depth[image_.index(0, y + 1)] : nullptr, &neighbour_min_depth_[image_.index(0, y)],
                   &alone_depth_[image_.index(0, y)], w);
   });
+  // New occluders: of the results marked in the last new_occluder_frames projections (project keeps
+  // that list), those drawn and standing alone; the last frame's are reset first.
+  for (const uint32_t i : occluder_pixels_) occluder_depth_[i] = kInf;
+  occluder_pixels_.clear();
+  if (!new_occluder_rule()) return true;
+  occluder_depth_.resize(n + kWindowPad, kInf);
+  for (const auto& [slot, stamp] : recent_occluders_) {
+    const int32_t pixel = points_[slot].image_id;
+    if (points_[slot].valid && pixel >= 0 && image_.point[size_t(pixel)] == int32_t(slot) && alone_depth_[size_t(pixel)] != kInf) {
+      occluder_depth_[size_t(pixel)] = alone_depth_[size_t(pixel)];
+      occluder_pixels_.push_back(uint32_t(pixel));
+    }
+  }
+  any_new_occluder_ = !occluder_pixels_.empty();
   return true;
 }
 
@@ -825,7 +909,7 @@ void PointCache::for_candidates(const Candidate& candidate, const Visit& visit, 
         const int n = std::min(kChunk, w - x0);
         const size_t row = image_.index(x0, y);
         std::array<uint8_t, kChunk + 8> flags{};  // zero past n
-        for (int k = 0; k < n; ++k) flags[size_t(k)] = uint8_t(candidate(row + size_t(k)));
+        for (int k = 0; k < n; ++k) flags[size_t(k)] = uint8_t(candidate(row + size_t(k), x0 + k, y));
         std::array<uint16_t, kChunk> found;  // the chunk's candidates, in order
         size_t count = 0;
         for (int k = 0; k < n; k += 8) {

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -27,6 +28,9 @@ inline double round_half_away(float x) { return std::trunc(double(x) + std::copy
 
 // The occlusion test scans a window row as one 32-bit mask: radii above this are refused.
 inline constexpr int kMaxOcclusionRadius = 15;
+// A result lands in front of the point drawn at its pixel (PointCacheSettings::new_occluder_radius)
+// when its depth times 1 + this is below that point's.
+inline constexpr float kNewOccluderMargin = 0.1f;
 
 struct PointCacheSettings {
   double capacity_factor = 1.15;   // cloud size as a multiple of the pixel count
@@ -46,6 +50,14 @@ struct PointCacheSettings {
   // more sparsely than occlusion_radius, as one magnified by the camera's motion, hides what lies
   // behind the gaps between its points (docs/render.md, "Sparse near surfaces"). 0: off.
   int sparse_occlusion_radius = 4;
+  // ... and up to `new_occluder_radius` pixels, a lone point shaded within the last
+  // `new_occluder_frames` projections whose result landed in front of the point drawn at its pixel
+  // (by kNewOccluderMargin): a surface that has just come in front of the cached points, such as
+  // an object sweeping across the view, has only the few samples that found it, farther apart
+  // than sparse_occlusion_radius (docs/render.md, "New occluders"). At most kMaxOcclusionRadius;
+  // not above sparse_occlusion_radius: off (the rule also needs the sparse rule on).
+  int new_occluder_radius = 8;
+  int new_occluder_frames = 4;
   // Progressive refinement (docs/render.md, "Convergence at rest"): a result landing on the same
   // surface point, shaded under the same placement (epoch) and, for view-dependent shading, from
   // about the same direction, is averaged into it instead of replacing it.
@@ -256,7 +268,7 @@ class PointCache {
   // The occlusion test of one drawn pixel (both paths; normal_to_world_ made for this frame).
   bool hidden_behind_a_neighbour(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                  const EdgeCrossings& crossings, int x, int y, bool dense_window = true,
-                                 bool sparse_ring = true) const;
+                                 bool sparse_ring = true, bool occluder_ring = true) const;
   size_t cull_behind_surfaces_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                         const EdgeCrossings& crossings);
   void fill_epi_reference(EpiImage& epi) const;
@@ -284,13 +296,25 @@ class PointCache {
   // not below p's depth), and alone_depth_, the depth of the points nearer than all their
   // neighbours (the only ones that can stand alone; +inf elsewhere), whose window minimum finds
   // the candidates. Returns false when the sparse radius adds nothing (nothing computed, and
-  // hidden_behind_a_neighbour reads neither).
+  // hidden_behind_a_neighbour reads neither). With the new-occluder rule, also occluder_depth_:
+  // alone_depth_ where the point is a new occluder (new_occluder()), +inf elsewhere;
+  // any_new_occluder_ says whether it holds one.
   bool mark_alone();
+  // The fast path's candidates for the new occluders' ring: occluder_near_ (any: there are some).
+  void near_occluders(bool any);
+  // The point at this slot is a new occluder (PointCacheSettings::new_occluder_radius) now.
+  bool new_occluder(size_t slot) const {
+    return seeded_at_[slot] != 0 && projections_ - seeded_at_[slot] < uint32_t(settings_.new_occluder_frames);
+  }
+  bool new_occluder_rule() const {
+    return settings_.new_occluder_radius > std::max(settings_.sparse_occlusion_radius, settings_.occlusion_radius) &&
+           settings_.new_occluder_frames > 0;
+  }
   // Runs pass(first row, end row, list) over bands of rows in parallel, each with its own cleared
   // list in band_lists_; remove_listed() then empties the listed pixels and counts them.
   template <class BandPass>
   void for_bands(int height, const BandPass& pass);
-  // for_bands over the pixels where candidate(pixel index) holds: visit(x, y, list). The test runs
+  // for_bands over the pixels where candidate(pixel index, x, y) holds: visit(x, y, list). The test runs
   // over a chunk of a row first, without branches (drawn and empty pixels alternate at random),
   // so the visits (rare) are the only branch taken. ahead(pixel index) is called for each of a
   // chunk's candidates before the first of them is visited (to prefetch what the visits read).
@@ -332,6 +356,18 @@ class PointCache {
   std::vector<float> min_depth_;                    // window_min_depth
   std::vector<std::vector<float>> min_rings_;       // window_min: each band's ring of row minima
   std::vector<float> neighbour_min_depth_, alone_depth_, sparse_min_depth_;  // mark_alone
+  std::vector<float> occluder_depth_;       // ... new occluders (+inf but at occluder_pixels_)
+  std::vector<uint32_t> occluder_pixels_;
+  bool any_new_occluder_ = false;
+  std::vector<std::pair<uint32_t, uint32_t>> recent_occluders_;  // insert's marked slots and their stamps
+  // near_occluders: per pixel, the least depth of the new occluders in its cell's 3x3 cells (+inf
+  // where none); per cell, that depth; the cells set.
+  std::vector<float> occluder_near_, occluder_cells_;
+  std::vector<uint32_t> occluder_cells_reached_;
+  // Per slot: 1 + the number of projections before the result that landed in front of the point
+  // drawn at its pixel (a new occluder), 0 for other results; projections_ counts projections.
+  std::vector<uint32_t> seeded_at_;
+  uint32_t projections_ = 0;
   std::vector<glm::mat3> normal_to_world_;  // cull_behind_surfaces' normal matrices
   std::vector<uint8_t> hidden_;             // ... and the reference path's verdicts
   std::vector<glm::vec3> eye_local_;        // the eye in each object's space (project)

@@ -110,10 +110,12 @@ ShadeBatch far_plane(const ViewFrame& frame) {
   return far;
 }
 
-// The same with no edge anywhere and the given sparse occlusion radius.
+// The same with no edge anywhere and the given sparse occlusion radius (the new-occluder rule
+// off: the near results land in front of the far points, so it would act on them too).
 PointCache near_over_far(const ViewFrame& frame, const ShadeBatch& far, const ShadeBatch& near, int sparse_radius) {
   PointCacheSettings settings;
   settings.sparse_occlusion_radius = sparse_radius;
+  settings.new_occluder_radius = 0;
   EdgeCrossings none;
   none.build({}, {}, frame.view().width, frame.view().height);
   return near_over_far(frame, far, near, settings, none);
@@ -204,6 +206,96 @@ TEST(PointCache, ALoneNearPointHidesTheFarPointsWithinTheSparseRadius) {
           ASSERT_EQ(image.point[image.index(x, y)] < 0, within) << "near point " << nx << "," << ny << ", radius "
                                                                 << radius << ", far point " << x << "," << y;
         }
+    }
+}
+
+// Which far points (object 0) are drawn: one flag per pixel.
+std::vector<bool> far_drawn(const PointCache& cache) {
+  const PointImage& image = cache.image();
+  std::vector<bool> drawn(image.point.size());
+  for (size_t i = 0; i < drawn.size(); ++i) drawn[i] = image.point[i] >= 0 && cache.points()[size_t(image.point[i])].object == 0;
+  return drawn;
+}
+
+// A lone near result that lands in front of the far point drawn at its pixel is a new occluder
+// (an object that has just come in front, docs/render.md "New occluders"): for
+// new_occluder_frames projections it hides the far points within new_occluder_radius (Chebyshev
+// distance), then only those within sparse_occlusion_radius, for every radius up to the largest,
+// with the window whole or cut by the image's border. A near point shaded before the far ones
+// were drawn is no new occluder: the sparse radius only.
+TEST(PointCache, ANewOccluderHidesTheFarPointsWithinItsRadiusForAFewFrames) {
+  const int w = 40, h = 34;
+  const ViewFrame frame = planes_view(w, h);
+  const ShadeBatch far = far_plane(frame);
+  const std::vector<glm::mat4> identity(2, glm::mat4(1.0f));
+  EdgeCrossings none;
+  none.build({}, {}, w, h);
+  for (const auto& [nx, ny] : {std::pair{20, 17}, std::pair{1, 2}, std::pair{w - 1, h - 3}})
+    for (const int radius : {5, 8, 13, kMaxOcclusionRadius}) {
+      PointCacheSettings settings;
+      settings.new_occluder_radius = radius, settings.new_occluder_frames = 3;
+      ShadeBatch near;
+      near.results.push_back(plane_hit(frame, float(nx) + 0.5f, float(ny) + 0.5f, 1.0f, 1));
+      PointCache cache(w, h, settings);
+      cache.insert(frame, far, identity);
+      cache.project(frame, identity, false);
+      cache.insert(frame, near, identity);
+      for (int projection = 0; projection < 5; ++projection) {
+        cache.project(frame, identity, false);
+        cache.cull_behind_surfaces(frame, identity, none);
+        const int reach = projection < settings.new_occluder_frames ? radius : settings.sparse_occlusion_radius;
+        const std::vector<bool> drawn = far_drawn(cache);
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x) {
+            if (x == nx && y == ny) continue;  // the near point itself
+            const bool within = std::max(std::abs(x - nx), std::abs(y - ny)) <= reach;
+            ASSERT_EQ(drawn[size_t(y * w + x)], !within) << "near point " << nx << "," << ny << ", radius " << radius
+                                                         << ", projection " << projection << ", far point " << x << "," << y;
+          }
+      }
+    }
+  // The near result first, the far plane after it (nothing was drawn where the near one landed),
+  // then a result a little nearer at the near point's pixel (by less than kNewOccluderMargin: not
+  // in front of it). Neither is a new occluder.
+  PointCache cache(w, h, PointCacheSettings{});
+  ShadeBatch near, nearer;
+  near.results.push_back(plane_hit(frame, 20.5f, 17.5f, 1.0f, 1));
+  nearer.results.push_back(plane_hit(frame, 20.5f, 17.5f, 1.5f, 1));  // depth 8.5 where 9 is drawn
+  cache.insert(frame, near, identity);
+  cache.project(frame, identity, false);
+  cache.insert(frame, far, identity);
+  cache.project(frame, identity, false);
+  cache.insert(frame, nearer, identity);
+  cache.project(frame, identity, false);
+  cache.cull_behind_surfaces(frame, identity, none);
+  const std::vector<bool> drawn = far_drawn(cache);
+  size_t hidden = 0;
+  for (size_t i = 0; i < drawn.size(); ++i) hidden += !drawn[i];
+  EXPECT_EQ(hidden, size_t(9 * 9));  // the sparse radius' window (4), the near point's pixel included
+  PointCacheSettings too_wide;
+  too_wide.new_occluder_radius = kMaxOcclusionRadius + 1;
+  EXPECT_THROW(PointCache(w, h, too_wide), std::invalid_argument);
+}
+
+// A new occluder does not hide across an edge: a silhouette 3.4 pixels to the right of the near
+// point keeps every far point beyond it, at the new-occluder radius as at the smaller ones.
+TEST(PointCache, ANewOccluderStopsAtAnEdge) {
+  const int w = 40, h = 34, nx = 20, ny = 17;
+  const ViewFrame frame = planes_view(w, h);
+  ShadeBatch near;
+  near.results.push_back(plane_hit(frame, float(nx) + 0.5f, float(ny) + 0.5f, 1.0f, 1));
+  const std::vector<Segment> silhouette = {{nx + 3.9, -1.0, nx + 3.9, h + 1.0}};
+  const std::vector<EdgeKind> kinds = {EdgeKind::silhouette};
+  EdgeCrossings crossings;
+  crossings.build(silhouette, kinds, w, h);
+  const PointCache cache = near_over_far(frame, far_plane(frame), near, PointCacheSettings{}, crossings);
+  const std::vector<bool> drawn = far_drawn(cache);
+  const int radius = PointCacheSettings{}.new_occluder_radius;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (x == nx && y == ny) continue;
+      const bool within = std::max(std::abs(x - nx), std::abs(y - ny)) <= radius && x <= nx + 3;
+      ASSERT_EQ(drawn[size_t(y * w + x)], !within) << x << "," << y;
     }
 }
 

@@ -182,6 +182,26 @@ TEST(FramesCli, SparseOcclusionRadiusIsAKnobWithTheRenderersDefault) {
   fs::remove_all(dir);
 }
 
+// The new-occluder rule as a knob: unset is the renderer's default (8), the sparse radius (4)
+// turns it off and changes what a walk into rooms shows, out of range is refused.
+TEST(FramesCli, NewOccluderRadiusIsAKnobWithTheRenderersDefault) {
+  const fs::path dir = temp_dir();
+  const std::string base = "render " + std::string(EPI_SOURCE_DIR) +
+                           "/scenes/rooms.gltf --sync --size 64x48 --frames 20 --quiet --no-speedup";
+  for (const auto& [args, name] : {std::pair{"", "default.exr"}, {" --new-occluder-radius 8", "eight.exr"},
+                                   {" --new-occluder-radius 4", "off.exr"}}) {
+    const EpiRun run = run_epi(base + args + " -o " + (dir / name).string());
+    ASSERT_EQ(run.exit_code, 0) << run.out;
+  }
+  EXPECT_EQ(read_file(dir / "default.exr"), read_file(dir / "eight.exr"));
+  EXPECT_NE(read_file(dir / "default.exr"), read_file(dir / "off.exr"));
+  const EpiRun bad = run_epi(base + " --new-occluder-radius 16 -o " + (dir / "bad.exr").string());
+  EXPECT_EQ(bad.exit_code, 2) << bad.out;
+  EXPECT_NE(bad.out.find("--new-occluder-radius"), std::string::npos) << bad.out;
+  EXPECT_FALSE(fs::exists(dir / "bad.exr"));
+  fs::remove_all(dir);
+}
+
 // --no-trace-ahead: a sync run integrates each frame's results in that frame (lag 0), so nothing
 // is extrapolated and the bytes are the same; the asynchronous loop reports its lag (about 2),
 // averaged over the frames that integrated results: at least one frame, however loaded the machine
