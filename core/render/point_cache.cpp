@@ -572,10 +572,12 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
         const int32_t old = image_.point[image_.index(px, py)];
         // The z-buffer's winner, before the culls: where the occlusion test emptied a pixel behind a
         // new occluder's earlier samples, the result still lands in front of what was there.
+        // (Where the winner is still drawn, the image holds its depth: no projection needed.)
         const int32_t winner = winners_[image_.index(px, py)];
         if (winner >= 0 && r.hit && point.object != kNone && points_[size_t(winner)].valid && points_[size_t(winner)].age != 0) {
-          const CachePoint& w0 = points_[size_t(winner)];
-          const float winner_depth = last_frame_->project(world_position(w0, *last_frame_, last_transforms_)).depth;
+          const float winner_depth =
+              old == winner ? image_.depth[image_.index(px, py)]
+                            : last_frame_->project(world_position(points_[size_t(winner)], *last_frame_, last_transforms_)).depth;
           in_front_of_drawn = proj.depth * (1.0f + kNewOccluderMargin) < winner_depth;
         }
         // (age 0: the slot was given to a result since the projection: not the point drawn there)
