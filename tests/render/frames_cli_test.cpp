@@ -162,44 +162,35 @@ TEST(FramesCli, BadInputFailsWithOneLineAndNoOutput) {
   fs::remove_all(dir);
 }
 
-// The sparse occlusion rule as a user's speed/accuracy knob: unset is the renderer's default (4),
-// 2 turns the rule off and changes what a walk into rooms shows, out of range is refused.
-TEST(FramesCli, SparseOcclusionRadiusIsAKnobWithTheRenderersDefault) {
+// An occlusion rule's radius as a user's knob: unset equals `default_value`, `off_value` turns the
+// rule off and changes what a walk into rooms shows, `bad_value` is refused (exit 2, the flag named,
+// no output).
+void expect_radius_knob(const std::string& flag, int default_value, int off_value, int bad_value) {
   const fs::path dir = temp_dir();
   const std::string base = "render " + std::string(EPI_SOURCE_DIR) +
                            "/scenes/rooms.gltf --sync --size 64x48 --frames 20 --quiet --no-speedup";
-  for (const auto& [args, name] : {std::pair{"", "default.exr"}, {" --sparse-occlusion-radius 4", "four.exr"},
-                                   {" --sparse-occlusion-radius 2", "off.exr"}}) {
+  const std::string given = " " + flag + " " + std::to_string(default_value), off = " " + flag + " " + std::to_string(off_value);
+  for (const auto& [args, name] : {std::pair{std::string(), "default.exr"}, {given, "given.exr"}, {off, "off.exr"}}) {
     const EpiRun run = run_epi(base + args + " -o " + (dir / name).string());
     ASSERT_EQ(run.exit_code, 0) << run.out;
   }
-  EXPECT_EQ(read_file(dir / "default.exr"), read_file(dir / "four.exr"));
-  EXPECT_NE(read_file(dir / "default.exr"), read_file(dir / "off.exr"));
-  const EpiRun bad = run_epi(base + " --sparse-occlusion-radius 1 -o " + (dir / "bad.exr").string());
+  EXPECT_EQ(read_file(dir / "default.exr"), read_file(dir / "given.exr")) << flag;
+  EXPECT_NE(read_file(dir / "default.exr"), read_file(dir / "off.exr")) << flag;
+  const EpiRun bad = run_epi(base + " " + flag + " " + std::to_string(bad_value) + " -o " + (dir / "bad.exr").string());
   EXPECT_EQ(bad.exit_code, 2) << bad.out;
-  EXPECT_NE(bad.out.find("--sparse-occlusion-radius"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find(flag), std::string::npos) << bad.out;
   EXPECT_FALSE(fs::exists(dir / "bad.exr"));
   fs::remove_all(dir);
 }
 
-// The new-occluder rule as a knob: unset is the renderer's default (8), the sparse radius (4)
-// turns it off and changes what a walk into rooms shows, out of range is refused.
+// The sparse occlusion rule: default 4, 2 turns it off, 1 is refused.
+TEST(FramesCli, SparseOcclusionRadiusIsAKnobWithTheRenderersDefault) {
+  expect_radius_knob("--sparse-occlusion-radius", 4, 2, 1);
+}
+
+// The new-occluder rule: default 8, the sparse radius (4) turns it off, 16 is refused.
 TEST(FramesCli, NewOccluderRadiusIsAKnobWithTheRenderersDefault) {
-  const fs::path dir = temp_dir();
-  const std::string base = "render " + std::string(EPI_SOURCE_DIR) +
-                           "/scenes/rooms.gltf --sync --size 64x48 --frames 20 --quiet --no-speedup";
-  for (const auto& [args, name] : {std::pair{"", "default.exr"}, {" --new-occluder-radius 8", "eight.exr"},
-                                   {" --new-occluder-radius 4", "off.exr"}}) {
-    const EpiRun run = run_epi(base + args + " -o " + (dir / name).string());
-    ASSERT_EQ(run.exit_code, 0) << run.out;
-  }
-  EXPECT_EQ(read_file(dir / "default.exr"), read_file(dir / "eight.exr"));
-  EXPECT_NE(read_file(dir / "default.exr"), read_file(dir / "off.exr"));
-  const EpiRun bad = run_epi(base + " --new-occluder-radius 16 -o " + (dir / "bad.exr").string());
-  EXPECT_EQ(bad.exit_code, 2) << bad.out;
-  EXPECT_NE(bad.out.find("--new-occluder-radius"), std::string::npos) << bad.out;
-  EXPECT_FALSE(fs::exists(dir / "bad.exr"));
-  fs::remove_all(dir);
+  expect_radius_knob("--new-occluder-radius", 8, 4, 16);
 }
 
 // --no-trace-ahead: a sync run integrates each frame's results in that frame (lag 0), so nothing
