@@ -71,7 +71,9 @@ def main():
     frames_at = [int(k) for k in a.frames_at.split(",")]
     size = f"{a.size}x{a.size}"
     os.makedirs(a.refs, exist_ok=True)
-    print(f"{size}, async, budget {a.budget}, frames {a.frames_at} of each 60-frame path, seeds {a.seeds}, "
+    loop = "sync (every setting passes --sync)" if all("--sync" in t.split() for t in a.settings.split(",")) else \
+        "async unless a setting passes --sync"
+    print(f"{size}, {loop}, budget {a.budget}, frames {a.frames_at} of each 60-frame path, seeds {a.seeds}, "
           "64-spp references")
     if a.targets:
         print("| scene | setting | runs | path RMSE | still RMSE | render cache RMSE | path / still | path / render cache "
