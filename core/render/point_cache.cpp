@@ -411,7 +411,7 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
   // The means see the z-buffer's winners: culled pixels are listed per band, removed after.
   const float *depth = image_.depth.data(), *min_depth = min_depth_.data();
   const int32_t* point = image_.point.data();
-  for_candidates([=](size_t i, int, int) { return (depth[i] > min_depth[i] * cull_scale) & (point[i] >= 0); },
+  for_candidates([=](size_t i) { return (depth[i] > min_depth[i] * cull_scale) & (point[i] >= 0); },
                  [&](int x, int y, std::vector<uint32_t>& culled) {
         const size_t i = image_.index(x, y);
         double sum = 0.0;
@@ -788,7 +788,7 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   const float* sparse_min = sparse ? sparse_min_depth_.data() : min_depth;
   const float* occluder_near = occluder_near_.data();
   const int32_t* point = image_.point.data();
-  for_candidates([=](size_t i, int, int) {
+  for_candidates([=](size_t i) {
     return (std::min({min_depth[i], sparse_min[i], occluder_near[i]}) * scale < depth[i]) & (point[i] >= 0);
   }, [&](int x, int y, std::vector<uint32_t>& hidden) {
     // A window whose least depth is not nearer by the margin cannot hold the nearer point.
@@ -911,7 +911,7 @@ void PointCache::for_candidates(const Candidate& candidate, const Visit& visit, 
         const int n = std::min(kChunk, w - x0);
         const size_t row = image_.index(x0, y);
         std::array<uint8_t, kChunk + 8> flags{};  // zero past n
-        for (int k = 0; k < n; ++k) flags[size_t(k)] = uint8_t(candidate(row + size_t(k), x0 + k, y));
+        for (int k = 0; k < n; ++k) flags[size_t(k)] = uint8_t(candidate(row + size_t(k)));
         std::array<uint16_t, kChunk> found;  // the chunk's candidates, in order
         size_t count = 0;
         for (int k = 0; k < n; k += 8) {

@@ -314,7 +314,7 @@ class PointCache {
   // list in band_lists_; remove_listed() then empties the listed pixels and counts them.
   template <class BandPass>
   void for_bands(int height, const BandPass& pass);
-  // for_bands over the pixels where candidate(pixel index, x, y) holds: visit(x, y, list). The test runs
+  // for_bands over the pixels where candidate(pixel index) holds: visit(x, y, list). The test runs
   // over a chunk of a row first, without branches (drawn and empty pixels alternate at random),
   // so the visits (rare) are the only branch taken. ahead(pixel index) is called for each of a
   // chunk's candidates before the first of them is visited (to prefetch what the visits read).
