@@ -44,6 +44,9 @@ wait 20
 window-screenshot $images/window-reachability.png
 SCRIPT
 xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$scene" --size 960x600 --script "$work/window.txt"
+# The default 512x512 window, where the overlay takes its compact form below the panel.
+printf 'wait 60\nwindow-screenshot %s\n' "$images/window-512.png" > "$work/window-512.txt"
+xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$scene" --script "$work/window-512.txt"
 
 # 2. Benchmarks: --benchmark orbits the camera a little every window frame.
 machine="$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), load $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -33,6 +33,7 @@
 #include "load_scene.h"
 #include "display.h"
 #include "navigation.h"
+#include "overlay_layout.h"
 #include "output.h"
 #include "render/camera_path.h"
 #include "render/session.h"
@@ -233,6 +234,8 @@ class Viewer {
   int selected_object_ = -1, selected_light_ = -1;
   std::array<std::optional<Camera>, 9> bookmarks_;
   bool show_panel_ = true, show_help_ = false;
+  Rect panel_rect_;                               // the panel as last drawn
+  ImVec2 overlay_full_{0, 0}, overlay_compact_{0, 0};  // the overlay's two forms as last drawn
   bool quit_ = false;
   int window_width_ = 0, window_height_ = 0, fb_width_ = 0, fb_height_ = 0;
   Clock::time_point resized_at_{};
@@ -766,10 +769,22 @@ void Viewer::draw_overlay() {
   const auto now = Clock::now();
   while (!ui_frames_.empty() && ms_between(ui_frames_.front(), now) > 1000.0) ui_frames_.pop_front();
   while (!render_frames_.empty() && ms_between(render_frames_.front(), now) > 1000.0) render_frames_.pop_front();
-  ImGui::SetNextWindowPos(ImVec2(float(window_width_) - 10.0f, 10.0f), ImGuiCond_Always, ImVec2(1.0f, 0.0f));
+  // Beside the panel, never over it (overlay_layout.h); each form is its own ImGui window so each
+  // keeps its own measured size.
+  const OverlayPlacement at = place_overlay(panel_rect_, overlay_full_.x, overlay_full_.y, overlay_compact_.x,
+                                            overlay_compact_.y, float(window_width_), float(window_height_));
+  ImGui::SetNextWindowPos(ImVec2(at.x, at.y), ImGuiCond_Always);
   ImGui::SetNextWindowBgAlpha(0.55f);
-  ImGui::Begin("overlay", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs);
+  ImGui::Begin(at.compact ? "overlay (compact)" : "overlay", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs);
   ImGui::Text("window %zu fps | frames %zu fps (%.1f ms)", ui_frames_.size(), render_frames_.size(), frame_.frame_ms);
+  if (at.compact) {
+    ImGui::Text("%s, %dx%d, %s shader | %zu samples/frame", render::to_string(frame_.settings.mode), frame_.width,
+                frame_.height, kShaderNames[int(frame_.settings.shader.kind)], frame_.stats.samples);
+    if (!frame_.error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.3f, 0.3f, 1.0f), "%s", frame_.error.c_str());
+    overlay_compact_ = ImGui::GetWindowSize();
+    ImGui::End();
+    return;
+  }
   ImGui::Text("%s, %dx%d, %s shader", render::to_string(frame_.settings.mode), frame_.width, frame_.height,
               kShaderNames[int(frame_.settings.shader.kind)]);
   if (frame_.settings.mode == SessionMode::epi || frame_.settings.mode == SessionMode::rendercache) {
@@ -806,6 +821,7 @@ void Viewer::draw_overlay() {
     if (k % 5) ImGui::SameLine();
     ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(kStageTimeColors[k]), "%s", render::kFrameStages[size_t(k)].label);
   }
+  overlay_full_ = ImGui::GetWindowSize();
   ImGui::End();
 }
 
@@ -926,6 +942,8 @@ void Viewer::draw_panel() {
     ImGui::Dummy(ImVec2(cell * 5, cell * 5));
   }
   ImGui::PopItemWidth();
+  const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+  panel_rect_ = {pos.x, pos.y, size.x, size.y};
   ImGui::End();
 }
 
