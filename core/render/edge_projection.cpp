@@ -90,7 +90,8 @@ void filter_depth(const PointImage& points, const DepthFilterSettings& settings,
 }
 
 EdgeFate project_edge(const ViewFrame& frame, const glm::dvec3& a, const glm::dvec3& b,
-                      std::span<const float> filtered_depth, std::vector<Segment>& out) {
+                      std::span<const float> filtered_depth, std::vector<Segment>& out,
+                      std::vector<glm::dvec2>* inv_depths) {
   const View& view = frame.view();
   const glm::dvec3 eye(frame.eye()), forward(frame.forward());
   const double znear = std::max(double(view.camera.znear), 1e-6);
@@ -123,14 +124,19 @@ EdgeFate project_edge(const ViewFrame& frame, const glm::dvec3& a, const glm::dv
     if (t0 > t1) return EdgeFate::outside;
   }
   auto point_at = [&](double t) { return glm::dvec2(x0 + t * dx, y0 + t * dy); };
-  if (filtered_depth.empty()) {
-    const glm::dvec2 s = point_at(t0), e = point_at(t1);
+  // 1/depth is linear in screen space along the projected segment.
+  const double inv0 = 1.0 / double(q0.depth), inv1 = 1.0 / double(q1.depth);
+  auto emit = [&](double ts, double te) {
+    const glm::dvec2 s = point_at(ts), e = point_at(te);
     out.push_back({s.x, s.y, e.x, e.y});
+    if (inv_depths) inv_depths->emplace_back(inv0 + ts * (inv1 - inv0), inv0 + te * (inv1 - inv0));
+  };
+  if (filtered_depth.empty()) {
+    emit(t0, t1);
     return EdgeFate::visible;
   }
 
-  // Occlusion culling: 1/depth is linear in screen space along the projected segment.
-  const double inv0 = 1.0 / double(q0.depth), inv1 = 1.0 / double(q1.depth);
+  // Occlusion culling.
   const double length = std::hypot(dx, dy) * (t1 - t0);
   const int steps = std::max(1, int(std::ceil(length)));
   auto visible_at = [&](double t) {
@@ -151,8 +157,7 @@ EdgeFate project_edge(const ViewFrame& frame, const glm::dvec3& a, const glm::dv
     if (piece && run_start < 0) run_start = k;
     if (run_start >= 0 && (!piece || k == steps - 1)) {
       const int end = piece ? k + 1 : k;
-      const glm::dvec2 s = point_at(t_at(run_start)), e = point_at(t_at(end));
-      out.push_back({s.x, s.y, e.x, e.y});
+      emit(t_at(run_start), t_at(end));
       any = true;
       run_start = -1;
     }
@@ -188,26 +193,29 @@ void mark_edge_pixels(std::span<const Segment> segments, std::span<const edges::
 
 
 void project_edges(const ViewFrame& frame, std::span<const edges::SceneEdge> edges, std::span<const float> filtered_depth,
-                   std::vector<Segment>& out, std::vector<uint32_t>& piece_edge, std::vector<EdgeFate>& fates,
-                   EdgeProjectionScratch& scratch) {
+                   std::vector<Segment>& out, std::vector<uint32_t>& piece_edge, std::vector<glm::dvec2>& piece_inv_depth,
+                   std::vector<EdgeFate>& fates, EdgeProjectionScratch& scratch) {
   // Fixed chunks (not the scheduler's split), each appending to its own buffers; concatenated in
   // chunk order, so the pieces come out in edge order whatever thread ran which chunk.
   constexpr size_t kChunk = 64;
   const size_t chunks = (edges.size() + kChunk - 1) / kChunk;
-  if (scratch.pieces.size() < chunks) scratch.pieces.resize(chunks), scratch.piece_edge.resize(chunks);
+  if (scratch.pieces.size() < chunks)
+    scratch.pieces.resize(chunks), scratch.piece_edge.resize(chunks), scratch.piece_inv_depth.resize(chunks);
   fates.resize(edges.size());
   tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
     std::vector<Segment>& pieces = scratch.pieces[c];
     std::vector<uint32_t>& owner = scratch.piece_edge[c];
-    pieces.clear(), owner.clear();
+    std::vector<glm::dvec2>& inv_depth = scratch.piece_inv_depth[c];
+    pieces.clear(), owner.clear(), inv_depth.clear();
     for (size_t k = c * kChunk; k < std::min(edges.size(), (c + 1) * kChunk); ++k) {
-      fates[k] = project_edge(frame, edges[k].a, edges[k].b, filtered_depth, pieces);
+      fates[k] = project_edge(frame, edges[k].a, edges[k].b, filtered_depth, pieces, &inv_depth);
       owner.resize(pieces.size(), uint32_t(k));
     }
   });
   for (size_t c = 0; c < chunks; ++c) {
     out.insert(out.end(), scratch.pieces[c].begin(), scratch.pieces[c].end());
     piece_edge.insert(piece_edge.end(), scratch.piece_edge[c].begin(), scratch.piece_edge[c].end());
+    piece_inv_depth.insert(piece_inv_depth.end(), scratch.piece_inv_depth[c].begin(), scratch.piece_inv_depth[c].end());
   }
 }
 

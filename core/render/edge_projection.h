@@ -31,21 +31,26 @@ enum class EdgeFate { outside, culled, visible };
 
 // Projects the world segment a-b into `frame`: clipped to depth >= max(znear, 1e-6) and to the
 // image grown by a one-pixel margin, then split where it lies behind `filtered_depth` (empty:
-// no culling), sampled at most a pixel apart. Appends the visible pieces.
+// no culling), sampled at most a pixel apart. Appends the visible pieces, and to `inv_depths`
+// (when given) 1/depth at each piece's start and end (exact: 1/depth is affine along a projected
+// segment).
 EdgeFate project_edge(const ViewFrame& frame, const glm::dvec3& a, const glm::dvec3& b,
-                      std::span<const float> filtered_depth, std::vector<Segment>& out);
+                      std::span<const float> filtered_depth, std::vector<Segment>& out,
+                      std::vector<glm::dvec2>* inv_depths = nullptr);
 
 // project_edge over many edges in parallel chunks of edges,
-// the pieces concatenated in edge order: `out` (appended to) and `piece_edge` (the edge of each
-// piece) are bit for bit those of calling project_edge on each edge in turn, whatever the
-// thread count; fates[k] is edge k's fate. The chunks' buffers are kept in `scratch`.
+// the pieces concatenated in edge order: `out`, `piece_edge` (the edge of each piece) and
+// `piece_inv_depth` (1/depth at its ends), all appended to, are bit for bit those of calling
+// project_edge on each edge in turn, whatever the thread count; fates[k] is edge k's fate. The
+// chunks' buffers are kept in `scratch`.
 struct EdgeProjectionScratch {
   std::vector<std::vector<Segment>> pieces;
   std::vector<std::vector<uint32_t>> piece_edge;
+  std::vector<std::vector<glm::dvec2>> piece_inv_depth;
 };
 void project_edges(const ViewFrame& frame, std::span<const edges::SceneEdge> edges, std::span<const float> filtered_depth,
-                   std::vector<Segment>& out, std::vector<uint32_t>& piece_edge, std::vector<EdgeFate>& fates,
-                   EdgeProjectionScratch& scratch);
+                   std::vector<Segment>& out, std::vector<uint32_t>& piece_edge, std::vector<glm::dvec2>& piece_inv_depth,
+                   std::vector<EdgeFate>& fates, EdgeProjectionScratch& scratch);
 
 // Pixels crossed by the edge pieces, sampled every 1/8 pixel along each: kDepthEdge where a
 // silhouette or border crosses, kSharpEdge where a sharp edge does, kShadowEdge where an umbral,

@@ -696,8 +696,13 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
     if (std::abs(facing) < 0.1f) return false;
     const float plane_depth = glm::dot(n, at - ray.origin) / facing * ray_depth;
     if (!(plane_depth > 0.0f) || !(depth > plane_depth * scale)) return false;
-    // Hidden unless a silhouette, border or sharp edge passes between the two points.
-    return !crossings.separated(at_p, position(q));
+    // Hidden unless a silhouette, border or sharp edge passes between the two points. Between a
+    // new occluder and p only an edge nearer than halfway between their depths counts: one
+    // farther lies behind the surface that has just come in front (the far objects' own
+    // silhouettes), where the occluder's own edges lie near its depth (docs/render.md, "New occluders").
+    const double edge_limit = new_occluder(size_t(image_.point[q])) ? 0.5 * (double(depth) + double(image_.depth[q]))
+                                                                    : std::numeric_limits<double>::infinity();
+    return !crossings.separated(at_p, position(q), edge_limit);
   };
   // The nearer points' records lie in the cloud at random: a window's are listed and prefetched
   // before any is read, so that their cache misses overlap (the verdict, whether any of them

@@ -314,7 +314,7 @@ void FrameRenderer::find_and_rasterize_edges(const ViewFrame& frame) {
   t = Clock::now();
   if (settings_.occlusion_culling) filter_depth(cache_.image(), settings_.depth_filter, filtered_depth_);
   else filtered_depth_.clear();
-  project_edges(frame, edges_, filtered_depth_, segments_, piece_edge_, edge_fates_, edge_scratch_);
+  project_edges(frame, edges_, filtered_depth_, segments_, piece_edge_, piece_inv_depth_, edge_fates_, edge_scratch_);
   segment_kinds_.resize(segments_.size());
   for (size_t k = 0; k < segments_.size(); ++k) segment_kinds_[k] = edges_[piece_edge_[k]].kind;
   for (size_t k = 0; k < edges_.size(); ++k) {
@@ -394,6 +394,7 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
     segments_.clear();
     segment_kinds_.clear();
     piece_edge_.clear();
+    piece_inv_depth_.clear();
     if (finder_) find_and_rasterize_edges(frame);
   }
   t = Clock::now();
@@ -401,7 +402,7 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
     mark_edge_pixels(segments_, segment_kinds_, settings_.width, settings_.height, edge_pixels_);
     if (edge_aware) {
       stats_.points.culled = cache_.depth_cull(edge_pixels_);
-      crossings_.build(segments_, segment_kinds_, settings_.width, settings_.height);
+      crossings_.build(segments_, segment_kinds_, settings_.width, settings_.height, piece_inv_depth_);
       stats_.points.occluded = cache_.cull_behind_surfaces(frame, transforms_, crossings_);
       stats_.points.drawn -= stats_.points.culled + stats_.points.occluded;
     }

@@ -198,6 +198,7 @@ class FrameRenderer {
   std::vector<Segment> segments_;
   std::vector<edges::EdgeKind> segment_kinds_;
   std::vector<uint32_t> piece_edge_;  // the edge of each piece in segments_
+  std::vector<glm::dvec2> piece_inv_depth_;  // 1/depth at each piece's ends
   std::vector<EdgeFate> edge_fates_;
   EdgeProjectionScratch edge_scratch_;
   std::vector<float> filtered_depth_;

@@ -14,13 +14,19 @@ namespace {
 
 using edges::EdgeKind;
 
-// Brute force: parametric intersection of the two closed segments (no degenerate cases drawn).
-bool crosses(glm::dvec2 a, glm::dvec2 b, const Segment& s) {
+// Brute force: parametric intersection of the two closed segments (no degenerate cases drawn);
+// `u` is where along s.
+bool crosses(glm::dvec2 a, glm::dvec2 b, const Segment& s, double& u) {
   const glm::dvec2 r = b - a, q{s.x1 - s.x0, s.y1 - s.y0}, d{s.x0 - a.x, s.y0 - a.y};
   const double den = r.x * q.y - r.y * q.x;
   if (den == 0.0) return false;
-  const double t = (d.x * q.y - d.y * q.x) / den, u = (d.x * r.y - d.y * r.x) / den;
+  const double t = (d.x * q.y - d.y * q.x) / den;
+  u = (d.x * r.y - d.y * r.x) / den;
   return t >= 0.0 && t <= 1.0 && u >= 0.0 && u <= 1.0;
+}
+bool crosses(glm::dvec2 a, glm::dvec2 b, const Segment& s) {
+  double u;
+  return crosses(a, b, s, u);
 }
 
 // The occlusion tests' view: looking down -z from z = 10 at planes z = const.
@@ -69,6 +75,50 @@ TEST(EdgeCrossings, AgreesWithTestingEveryBarrierPiece) {
     }
     EXPECT_GT(separated, 20);  // the test sees both answers
   }
+}
+
+// With depths: a piece counts only where it is nearer than the limit at the crossing (1/depth
+// interpolated along the piece), against every piece tested in turn, over random pieces (many
+// reaching past the image, so clipped), depths and limits; the limit +inf counts every piece.
+TEST(EdgeCrossings, OnlyPiecesNearerThanTheLimitWhereTheyCrossCount) {
+  std::mt19937 rng(17);
+  const int w = 97, h = 61;
+  std::uniform_real_distribution<double> x(-20.0, w + 20.0), y(-20.0, h + 20.0), step(-4.0, 4.0), len(-30.0, 30.0);
+  std::uniform_real_distribution<double> depth(1.0, 20.0);
+  int counted = 0, behind = 0;
+  for (int round = 0; round < 20; ++round) {
+    std::vector<Segment> segments;
+    std::vector<EdgeKind> kinds;
+    std::vector<glm::dvec2> inv;
+    for (int k = 0; k < 60; ++k) {
+      const double x0 = x(rng), y0 = y(rng);
+      segments.push_back({x0, y0, x0 + len(rng), y0 + len(rng)});
+      kinds.push_back(k % 4 ? EdgeKind::silhouette : EdgeKind::shadow);
+      inv.emplace_back(1.0 / depth(rng), 1.0 / depth(rng));
+    }
+    EdgeCrossings crossings;
+    crossings.build(segments, kinds, w, h, inv);
+    for (int k = 0; k < 2000; ++k) {
+      const glm::dvec2 a{std::uniform_real_distribution<double>(0.0, w)(rng), std::uniform_real_distribution<double>(0.0, h)(rng)};
+      const glm::dvec2 b = a + glm::dvec2(step(rng), step(rng));
+      const double limit = depth(rng);
+      bool expected = false, any = false;
+      for (size_t s = 0; s < segments.size(); ++s) {
+        double u;
+        if (kinds[s] != EdgeKind::silhouette || !crosses(a, b, segments[s], u)) continue;
+        any = true;
+        expected |= 1.0 / (inv[s].x + u * (inv[s].y - inv[s].x)) < limit;
+      }
+      ASSERT_EQ(crossings.separated(a, b, limit), expected) << round << " " << k;
+      ASSERT_EQ(crossings.separated(a, b), any) << round << " " << k;
+      counted += expected, behind += any && !expected;
+    }
+  }
+  EXPECT_GT(counted, 50);  // both answers, and pieces ignored for their depth
+  EXPECT_GT(behind, 50);
+  EdgeCrossings mismatched;
+  EXPECT_THROW(mismatched.build(std::vector<Segment>(2), std::vector<EdgeKind>(2), 8, 8, std::vector<glm::dvec2>(1)),
+               std::invalid_argument);
 }
 
 TEST(EdgeCrossings, ExtremesOnGridLinesEndpointsHugeAndEmpty) {
@@ -296,6 +346,49 @@ TEST(PointCache, ANewOccluderStopsAtAnEdge) {
       if (x == nx && y == ny) continue;
       const bool within = std::max(std::abs(x - nx), std::abs(y - ny)) <= radius && x <= nx + 3;
       ASSERT_EQ(drawn[size_t(y * w + x)], !within) << x << "," << y;
+    }
+}
+
+// An edge behind a new occluder does not stop it: the same silhouette as above at the far
+// plane's depth (the far objects' own edges) lets it hide every far point within its radius,
+// while at the near plane's depth it stops it as before. A lone point that is no new occluder
+// keeps stopping at any edge (only new occluders look at the edges' depth).
+TEST(PointCache, AnEdgeBehindANewOccluderDoesNotStopIt) {
+  const int w = 40, h = 34, nx = 20, ny = 17;
+  const ViewFrame frame = planes_view(w, h);
+  ShadeBatch near;
+  near.results.push_back(plane_hit(frame, float(nx) + 0.5f, float(ny) + 0.5f, 1.0f, 1));  // depth 9
+  const std::vector<Segment> silhouette = {{nx + 3.9, -1.0, nx + 3.9, h + 1.0}};
+  const std::vector<EdgeKind> kinds = {EdgeKind::silhouette};
+  const int radius = PointCacheSettings{}.new_occluder_radius;
+  for (const double edge_depth : {9.0, 11.9, 12.1, 15.0}) {  // the far plane at 15: halfway is 12
+    EdgeCrossings crossings;
+    crossings.build(silhouette, kinds, w, h, std::vector<glm::dvec2>{{1.0 / edge_depth, 1.0 / edge_depth}});
+    const std::vector<bool> drawn = far_drawn(near_over_far(frame, far_plane(frame), near, PointCacheSettings{}, crossings));
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (x == nx && y == ny) continue;
+        const bool within = std::max(std::abs(x - nx), std::abs(y - ny)) <= radius && (edge_depth > 12.0 || x <= nx + 3);
+        ASSERT_EQ(drawn[size_t(y * w + x)], !within) << "edge at depth " << edge_depth << ", far point " << x << "," << y;
+      }
+  }
+  // No new occluder (the near result inserted first): the sparse radius, stopped by the far edge.
+  EdgeCrossings crossings;
+  crossings.build(silhouette, kinds, w, h, std::vector<glm::dvec2>{{1.0 / 15.0, 1.0 / 15.0}});
+  const std::vector<glm::mat4> identity(2, glm::mat4(1.0f));
+  PointCache cache(w, h, PointCacheSettings{});
+  cache.insert(frame, near, identity);
+  cache.project(frame, identity, false);
+  cache.insert(frame, far_plane(frame), identity);
+  cache.project(frame, identity, false);
+  cache.cull_behind_surfaces(frame, identity, crossings);
+  const std::vector<bool> drawn = far_drawn(cache);
+  const int sparse = PointCacheSettings{}.sparse_occlusion_radius;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (x == nx && y == ny) continue;
+      const bool within = std::max(std::abs(x - nx), std::abs(y - ny)) <= sparse && x <= nx + 3;
+      ASSERT_EQ(drawn[size_t(y * w + x)], !within) << "no new occluder, far point " << x << "," << y;
     }
 }
 

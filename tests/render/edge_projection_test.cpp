@@ -2,6 +2,7 @@
 // clipping (property test over random segments), and occlusion culling against filtered depth.
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 #include <utility>
 #include <limits>
 #include <random>
@@ -171,6 +172,48 @@ TEST(EdgeProjection, FilteredDepthEqualsTheWindowDefinitionOnRandomImages) {
   }
 }
 
+// The pieces' 1/depth at their ends against the 3D segment itself: the point of a-b nearest the
+// eye ray through each end (random segments, many crossing the near plane, the image border, and
+// culled into several pieces by a random depth image).
+TEST(EdgeProjection, PieceEndsCarryTheDepthOfTheEdgeThere) {
+  const ViewFrame frame = test_frame(96, 80);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> coord(-6.0, 6.0);
+  PointImage image = plane_points(96, 80, 1.0f);
+  std::uniform_real_distribution<float> depth(2.0f, 9.0f), u(0.0f, 1.0f);
+  for (size_t i = 0; i < image.depth.size(); ++i) {
+    image.depth[i] = depth(rng);
+    if (u(rng) < 0.3f) image.point[i] = -1;
+  }
+  std::vector<float> filtered;
+  filter_depth(image, DepthFilterSettings{}, filtered);
+  const glm::dvec3 eye(frame.eye()), fwd(frame.forward());
+  size_t ends = 0;
+  for (const bool cull : {false, true})
+    for (int trial = 0; trial < 300; ++trial) {
+      const glm::dvec3 a(coord(rng), coord(rng), coord(rng)), b(coord(rng), coord(rng), coord(rng));
+      std::vector<Segment> out;
+      std::vector<glm::dvec2> inv;
+      project_edge(frame, a, b, cull ? std::span<const float>(filtered) : std::span<const float>(), out, &inv);
+      ASSERT_EQ(inv.size(), out.size());
+      for (size_t k = 0; k < out.size(); ++k)
+        for (const auto& [x, y, got] : {std::tuple{out[k].x0, out[k].y0, inv[k].x}, std::tuple{out[k].x1, out[k].y1, inv[k].y}}) {
+          // The point of line a-b closest to the eye ray through (x, y).
+          const Ray ray = frame.ray(float(x), float(y));
+          const glm::dvec3 o(ray.origin), d(glm::normalize(glm::dvec3(ray.direction))), e = b - a;
+          const glm::dvec3 w0 = a - o;
+          const double ee = glm::dot(e, e), ed = glm::dot(e, d), ew = glm::dot(e, w0), dw = glm::dot(d, w0);
+          const double den = ee - ed * ed;
+          if (den < 1e-9 * ee) continue;  // the edge seen end-on
+          const double lambda = (ed * dw - ew) / den;
+          const double want = 1.0 / glm::dot(a + lambda * e - eye, fwd);
+          ASSERT_NEAR(got, want, 2e-4 * want) << "trial " << trial << ", piece " << k;
+          ++ends;
+        }
+    }
+  EXPECT_GT(ends, 500u);
+}
+
 // project_edges (parallel chunks) against project_edge edge by edge: the same pieces in the same
 // order, the same owners and fates, bit for bit, with culling on a random depth image, whatever
 // the thread count (run under 1 and 4 threads).
@@ -192,9 +235,10 @@ TEST(EdgeProjection, ParallelProjectionEqualsTheSerialOneBitForBit) {
     const std::span<const float> depths = cull ? std::span<const float>(filtered) : std::span<const float>();
     std::vector<Segment> want;
     std::vector<uint32_t> want_owner;
+    std::vector<glm::dvec2> want_inv;
     std::vector<EdgeFate> want_fate;
     for (size_t k = 0; k < edges.size(); ++k) {
-      want_fate.push_back(project_edge(frame, edges[k].a, edges[k].b, depths, want));
+      want_fate.push_back(project_edge(frame, edges[k].a, edges[k].b, depths, want, &want_inv));
       want_owner.resize(want.size(), uint32_t(k));
     }
     int culled = 0, split = 0;
@@ -208,15 +252,19 @@ TEST(EdgeProjection, ParallelProjectionEqualsTheSerialOneBitForBit) {
       tbb::task_arena arena(threads);
       std::vector<Segment> got = {{1, 2, 3, 4}};  // appended to
       std::vector<uint32_t> owner = {7};
+      std::vector<glm::dvec2> inv = {{0.5, 0.25}};
       std::vector<EdgeFate> fate;
       EdgeProjectionScratch scratch;
-      arena.execute([&] { project_edges(frame, edges, depths, got, owner, fate, scratch); });
+      arena.execute([&] { project_edges(frame, edges, depths, got, owner, inv, fate, scratch); });
       ASSERT_EQ(got.size(), want.size() + 1);
       ASSERT_EQ(owner.size(), want_owner.size() + 1);
+      ASSERT_EQ(inv.size(), want_inv.size() + 1);
+      ASSERT_EQ(want_inv.size(), want.size());
       for (size_t k = 0; k < want.size(); ++k) {
         const Segment& a = got[k + 1], &b = want[k];
         ASSERT_TRUE(a.x0 == b.x0 && a.y0 == b.y0 && a.x1 == b.x1 && a.y1 == b.y1) << k;
         ASSERT_EQ(owner[k + 1], want_owner[k]);
+        ASSERT_TRUE(inv[k + 1] == want_inv[k]) << k;
       }
       EXPECT_EQ(fate, want_fate);
     }
