@@ -15,7 +15,9 @@ indices of the 60-frame path), --size 256, --budget 0.02. --targets: issue 9's f
 asynchronous loop instead: beside the path, the still error at the same views (60 frames with
 the camera held at each chosen key, the last frame compared) and the render cache along the path
 (`--mode rendercache`); path over still (target at most 1.5), path over the render cache (at most
-0.75), the path's share of pixels over 0.2 (at most 0.3 %).
+0.75), the path's share of pixels over 0.2 (at most 0.3 %); and, for scale, the still view's
+share over 0.2 and a 1-spp ray trace of each chosen view (every pixel shaded once, `--mode
+raytrace --spp 1`, the same seed), its RMSE and its share over 0.2.
 """
 import argparse
 import json
@@ -77,8 +79,8 @@ def main():
           "64-spp references")
     if a.targets:
         print("| scene | setting | runs | path RMSE | still RMSE | render cache RMSE | path / still | path / render cache "
-              "| > 0.2 path |")
-        print("|---|---|---|---|---|---|---|---|---|")
+              "| > 0.2 path | > 0.2 still | 1-spp ray trace RMSE | > 0.2 1-spp ray trace |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     else:
         print("| scene | setting | runs | RMSE (mean, range of runs) | > 0.1 | > 0.2 |")
         print("|---|---|---|---|---|---|")
@@ -105,9 +107,11 @@ def main():
                 continue
             still = held_at_keys(a, scene, size, keys, refs, flags)
             rc = along_path(a, scene, size, refs, flags + ["--mode", "rendercache"])
+            rt = ray_traced_at_keys(a, scene, size, keys, refs)
             mean = lambda runs, i=0: statistics.mean(r[i] for r in runs)
             print(f"| {name} | {label} | {len(path)} | {mean(path):.4f} | {mean(still):.4f} | {mean(rc):.4f} | "
-                  f"{mean(path) / mean(still):.2f} | {mean(path) / mean(rc):.2f} | {mean(path, 2):.2f} % |", flush=True)
+                  f"{mean(path) / mean(still):.2f} | {mean(path) / mean(rc):.2f} | {mean(path, 2):.2f} % | "
+                  f"{mean(still, 2):.2f} % | {mean(rt):.4f} | {mean(rt, 2):.2f} % |", flush=True)
 
 
 def render(a, scene, size, seed, flags, work):
@@ -140,6 +144,24 @@ def held_at_keys(a, scene, size, keys, refs, flags):
             try:
                 render(a, scene, size, seed, flags + camera_flags(keys[k]), work)
                 errors.append(compare(a.epi, os.path.join(work, "last.exr"), ref))
+            finally:
+                shutil.rmtree(work)
+        runs.append(tuple(statistics.mean(e[i] for e in errors) for i in range(3)))
+    return runs
+
+
+def ray_traced_at_keys(a, scene, size, keys, refs):
+    """Per seed, a 1-spp ray trace of each chosen view, averaged over the keys."""
+    runs = []
+    for seed in a.seeds.split(","):
+        errors = []
+        for k, ref in refs.items():
+            work = tempfile.mkdtemp(prefix="epi_rt_")
+            try:
+                subprocess.run([a.epi, "render", scene, "--mode", "raytrace", "--spp", "1", "--size", size, "--seed", seed,
+                                "--quiet", "-o", os.path.join(work, "rt.exr")] + camera_flags(keys[k]),
+                               check=True, stdout=subprocess.DEVNULL)
+                errors.append(compare(a.epi, os.path.join(work, "rt.exr"), ref))
             finally:
                 shutil.rmtree(work)
         runs.append(tuple(statistics.mean(e[i] for e in errors) for i in range(3)))
