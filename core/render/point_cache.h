@@ -66,9 +66,11 @@ struct PointCacheSettings {
   // point's staleness is the angle between the eye's direction now and at shading, in widths of
   // its specular lobe. It raises the point's sampling priority by view_priority x (view-dependent
   // share) x staleness (in age units), and the view-dependent part of its colour fades out between
-  // view_fade_start and view_fade_end lobe widths (a highlight seen from elsewhere is not shown).
+  // view_fade_start and view_fade_end lobe widths (a highlight seen from elsewhere is not shown;
+  // 2 to 6 measured better than 1 to 3 along the bundled paths: docs/render.md, "View-dependent
+  // shading").
   float view_priority = 16.0f;
-  float view_fade_start = 1.0f, view_fade_end = 3.0f;
+  float view_fade_start = 2.0f, view_fade_end = 6.0f;
   // A point past view_fade_end whose colour is mostly view-dependent (share above this: metals,
   // mirrors) is not written into the EPI at all: its pixel is reconstructed from fresher
   // neighbours instead of shown as a faded, too dark sample (it stays an occluder).
