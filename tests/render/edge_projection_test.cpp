@@ -172,6 +172,20 @@ TEST(EdgeProjection, FilteredDepthEqualsTheWindowDefinitionOnRandomImages) {
   }
 }
 
+// The filtered depth of a w x h point image with random depths in [2, max_depth] and 30 % of
+// its pixels empty.
+std::vector<float> random_filtered_depth(int w, int h, float max_depth, std::mt19937& rng) {
+  PointImage image = plane_points(w, h, 1.0f);
+  std::uniform_real_distribution<float> depth(2.0f, max_depth), u(0.0f, 1.0f);
+  for (size_t i = 0; i < image.depth.size(); ++i) {
+    image.depth[i] = depth(rng);
+    if (u(rng) < 0.3f) image.point[i] = -1;
+  }
+  std::vector<float> filtered;
+  filter_depth(image, DepthFilterSettings{}, filtered);
+  return filtered;
+}
+
 // The pieces' 1/depth at their ends against the 3D segment itself: the point of a-b nearest the
 // eye ray through each end (random segments, many crossing the near plane, the image border, and
 // culled into several pieces by a random depth image).
@@ -179,14 +193,7 @@ TEST(EdgeProjection, PieceEndsCarryTheDepthOfTheEdgeThere) {
   const ViewFrame frame = test_frame(96, 80);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> coord(-6.0, 6.0);
-  PointImage image = plane_points(96, 80, 1.0f);
-  std::uniform_real_distribution<float> depth(2.0f, 9.0f), u(0.0f, 1.0f);
-  for (size_t i = 0; i < image.depth.size(); ++i) {
-    image.depth[i] = depth(rng);
-    if (u(rng) < 0.3f) image.point[i] = -1;
-  }
-  std::vector<float> filtered;
-  filter_depth(image, DepthFilterSettings{}, filtered);
+  const std::vector<float> filtered = random_filtered_depth(96, 80, 9.0f, rng);
   const glm::dvec3 eye(frame.eye()), fwd(frame.forward());
   size_t ends = 0;
   for (const bool cull : {false, true})
@@ -223,14 +230,7 @@ TEST(EdgeProjection, ParallelProjectionEqualsTheSerialOneBitForBit) {
   std::uniform_real_distribution<double> coord(-5.0, 5.0);
   std::vector<edges::SceneEdge> edges(1000);
   for (edges::SceneEdge& e : edges) e.a = {coord(rng), coord(rng), coord(rng)}, e.b = {coord(rng), coord(rng), coord(rng)};
-  PointImage image = plane_points(96, 80, 1.0f);
-  std::uniform_real_distribution<float> depth(2.0f, 6.0f), u(0.0f, 1.0f);
-  for (size_t i = 0; i < image.depth.size(); ++i) {
-    image.depth[i] = depth(rng);
-    if (u(rng) < 0.3f) image.point[i] = -1;
-  }
-  std::vector<float> filtered;
-  filter_depth(image, DepthFilterSettings{}, filtered);
+  const std::vector<float> filtered = random_filtered_depth(96, 80, 6.0f, rng);
   for (const bool cull : {false, true}) {
     const std::span<const float> depths = cull ? std::span<const float>(filtered) : std::span<const float>();
     std::vector<Segment> want;
