@@ -17,6 +17,7 @@ struct EdgeTreeSettings {
   uint32_t parallel_threshold = 16384;    // subtrees with more edges are built as parallel tasks
   float keep_high_fraction = 0.5f;        // an edge stays at a node if its normals span more than this
                                           // fraction of the node's normal range on some axis
+  bool operator==(const EdgeTreeSettings&) const = default;
 };
 
 struct EdgeTreeNode {

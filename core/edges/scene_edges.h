@@ -41,6 +41,7 @@ struct LightBlockerReceiver {
 struct FinderCost {
   double ns_per_node = 60.0, ns_per_tree_edge = 1.0, ns_per_tree_silhouette = 40.0;   // tree: traversal, leaf tests, sorted output
   double ns_per_face = 0.33, ns_per_brute_edge = 0.33, ns_per_brute_silhouette = 10.0;  // brute force
+  bool operator==(const FinderCost&) const = default;
 };
 
 struct SceneEdgeSettings {
@@ -53,6 +54,7 @@ struct SceneEdgeSettings {
   // Receiver trees (the faces shadow edges are searched on) for every mesh; false: none, and
   // shadow_edges() must not be called (the frame loop with shadow edges off).
   bool receiver_trees = true;
+  bool operator==(const SceneEdgeSettings&) const = default;
 };
 
 struct FinderChoice {
@@ -73,6 +75,7 @@ class SceneEdgeFinder {
   const EdgeTree& edge_tree(uint32_t mesh) const { return meshes_[mesh].tree; }
   const ReceiverTree& receiver_tree(uint32_t mesh) const { return meshes_[mesh].receivers; }
   double build_ms() const { return build_ms_; }
+  const SceneEdgeSettings& settings() const { return settings_; }
   size_t memory_bytes() const;
 
   // Silhouette, sharp and border edges from a world-space eye point.

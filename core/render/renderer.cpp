@@ -35,7 +35,15 @@ bool same_camera(const Camera& a, const Camera& b) {
 
 }  // namespace
 
-FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shader& shader, const FrameSettings& settings)
+std::optional<edges::SceneEdgeSettings> FrameRenderer::edge_finder_settings(const FrameSettings& settings) {
+  if (settings.mode != RenderMode::epi || !(settings.view_edges || settings.shadow_edges)) return std::nullopt;
+  edges::SceneEdgeSettings edge_settings = settings.edge_finder;
+  edge_settings.receiver_trees = settings.shadow_edges;  // model only what the settings use
+  return edge_settings;
+}
+
+FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shader& shader, const FrameSettings& settings,
+                             std::shared_ptr<edges::SceneEdgeFinder> edge_finder)
     : scene_(scene),
       ray_scene_(ray_scene),
       shader_(shader),
@@ -50,10 +58,10 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
   for (uint32_t o = 0; o < scene.objects.size(); ++o) transforms_.push_back(ray_scene.object_to_world(o));
   for (const PunctualLight& l : ray_scene.punctual_lights()) light_positions_.push_back(l.position);
   placement_ = std::make_shared<const PlacementState>(PlacementState{transforms_, light_positions_});
-  if (settings.mode == RenderMode::epi && (settings.view_edges || settings.shadow_edges)) {
-    edges::SceneEdgeSettings edge_settings = settings.edge_finder;
-    edge_settings.receiver_trees = settings.shadow_edges;  // model only what the settings use
-    finder_ = std::make_unique<edges::SceneEdgeFinder>(scene, edge_settings);
+  if (const auto edge_settings = edge_finder_settings(settings)) {
+    if (edge_finder && !(edge_finder->settings() == *edge_settings))
+      throw std::invalid_argument("frame renderer: the edge finder given was built with other settings");
+    finder_ = edge_finder ? std::move(edge_finder) : std::make_shared<edges::SceneEdgeFinder>(scene, *edge_settings);
     edge_scene_.source = scene.source;
     edge_scene_.objects = scene.objects;
     edge_scene_.punctual_lights = scene.punctual_lights;

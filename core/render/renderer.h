@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -107,7 +108,14 @@ struct FrameStats {
 class FrameRenderer {
  public:
   // ray_scene must be the one `shader` traces; moving objects updates it. All three outlive this.
-  FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shader& shader, const FrameSettings& settings);
+  // `edge_finder`, when given, must have been built from `scene` with edge_finder_settings(settings)
+  // (std::invalid_argument otherwise): a renderer rebuilt for other settings (the viewer's window
+  // size, budget, ...) reuses the edge trees instead of building them again.
+  FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shader& shader, const FrameSettings& settings,
+                std::shared_ptr<edges::SceneEdgeFinder> edge_finder = nullptr);
+  // The edge finder settings a renderer with these settings builds its finder with; none when it
+  // needs no finder (not epi mode, or neither view nor shadow edges).
+  static std::optional<edges::SceneEdgeSettings> edge_finder_settings(const FrameSettings& settings);
   ~FrameRenderer();
   FrameRenderer(const FrameRenderer&) = delete;
   FrameRenderer& operator=(const FrameRenderer&) = delete;
@@ -190,7 +198,7 @@ class FrameRenderer {
   std::unique_ptr<Camera> previous_camera_;
   double result_lag_ = 0.0;  // FrameStats::result_lag of the last frame that integrated results
   // epi mode: the edge finder sees a light copy of the scene (objects, lights) placed as now.
-  std::unique_ptr<edges::SceneEdgeFinder> finder_;
+  std::shared_ptr<edges::SceneEdgeFinder> finder_;
   Scene edge_scene_;
   std::vector<glm::mat4> load_transforms_;
   std::map<edges::LightBlockerReceiver, int> triples_;  // -> the last frame a result reported it

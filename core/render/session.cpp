@@ -278,7 +278,12 @@ void Session::rebuild(const SessionSettings& settings) {
   if (settings.mode == SessionMode::epi || settings.mode == SessionMode::rendercache) {
     FrameSettings fs = settings.frame;
     fs.mode = settings.mode == SessionMode::epi ? RenderMode::epi : RenderMode::rendercache;
-    renderer_ = std::make_unique<FrameRenderer>(scene_, *ray_scene_, *shader_, fs);
+    const auto edge_settings = FrameRenderer::edge_finder_settings(fs);
+    if (edge_settings && !(edge_finder_ && edge_finder_->settings() == *edge_settings)) {
+      edge_finder_ = std::make_shared<edges::SceneEdgeFinder>(scene_, *edge_settings);
+      ++edge_finder_builds_;
+    }
+    renderer_ = std::make_unique<FrameRenderer>(scene_, *ray_scene_, *shader_, fs, edge_settings ? edge_finder_ : nullptr);
   }
   built_ = settings;
   passes_ = 0;

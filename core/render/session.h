@@ -136,6 +136,9 @@ class Session {
   // The newest frame's linear image (screenshots); returns its number (0: none yet).
   uint64_t copy_image(RgbImage& out) const;
   uint64_t frames() const { return frames_.load(); }
+  // How many times the edge finder (the scene's edge trees) was built: once per scene and edge
+  // settings, not once per rebuild of the frame loop.
+  uint64_t edge_finder_builds() const { return edge_finder_builds_.load(); }
   // Blocks until a frame numbered >= n is published or the timeout passes (tests, --frames).
   bool wait_for_frame(uint64_t n, std::chrono::milliseconds timeout) const;
 
@@ -155,6 +158,8 @@ class Session {
   const Scene& scene_;
   DisplayFunction display_;
   std::unique_ptr<RayScene> ray_scene_;
+  std::shared_ptr<edges::SceneEdgeFinder> edge_finder_;  // kept across rebuilds while its settings hold
+  std::atomic<uint64_t> edge_finder_builds_{0};
   std::unique_ptr<Shader> shader_;
   std::unique_ptr<FrameRenderer> renderer_;
   std::unique_ptr<tbb::global_control> thread_limit_;

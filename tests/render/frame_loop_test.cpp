@@ -67,6 +67,56 @@ TEST(FrameLoop, SyncRunsAreDeterministicForASeed) {
   }
 }
 
+// A renderer built with another renderer's edge finder (as the viewer's session does when a
+// setting such as the window size rebuilds the loop) renders the same frames as one that builds
+// its own: images, priorities and edge pieces bit for bit, the camera and the lamp moving (the
+// finder's cached shadow edges carried over). A finder built for other settings is refused.
+TEST(FrameLoop, AReusedEdgeFinderGivesTheSameFrames) {
+  Fixture f;
+  FrameSettings first = small_settings(RenderMode::epi);
+  auto finder = std::make_shared<edges::SceneEdgeFinder>(f.scene, *FrameRenderer::edge_finder_settings(first));
+  auto run = [&](FrameRenderer& renderer, std::vector<float>& image, std::vector<Segment>& segments) {
+    Camera camera = f.scene.cameras[0];
+    std::vector<glm::vec3> lamp = {f.scene.punctual_lights[0].position};
+    for (int k = 0; k < 6; ++k) {
+      camera.eye.x += 0.05f, lamp[0].y += 0.1f;
+      const RgbImage& frame = renderer.render(camera, {}, lamp);
+      image.insert(image.end(), frame.pixels.begin(), frame.pixels.end());
+      image.insert(image.end(), renderer.priority().begin(), renderer.priority().end());
+      segments.insert(segments.end(), renderer.segments().begin(), renderer.segments().end());
+    }
+  };
+  std::vector<float> unused_image;
+  std::vector<Segment> unused_segments;
+  {
+    FrameRenderer before(f.scene, f.ray_scene, f.shader, first, finder);
+    run(before, unused_image, unused_segments);
+    EXPECT_EQ(before.edge_finder(), finder.get());
+  }
+  FrameSettings second = first;
+  second.width = 48, second.height = 40, second.sample_budget = 0.08;
+  std::vector<float> reused_image, own_image;
+  std::vector<Segment> reused_segments, own_segments;
+  {
+    Fixture g;  // a fresh copy of the scene and its placement (`before` moved the lamp in f's)
+    FrameRenderer own(g.scene, g.ray_scene, g.shader, second);
+    run(own, own_image, own_segments);
+  }
+  Fixture h;  // another fresh copy: the finder was built from an identical scene
+  FrameRenderer reused(h.scene, h.ray_scene, h.shader, second, finder);
+  run(reused, reused_image, reused_segments);
+  EXPECT_EQ(reused_image, own_image);
+  ASSERT_EQ(reused_segments.size(), own_segments.size());
+  for (size_t k = 0; k < own_segments.size(); ++k) {
+    const Segment &a = reused_segments[k], &b = own_segments[k];
+    ASSERT_TRUE(a.x0 == b.x0 && a.y0 == b.y0 && a.x1 == b.x1 && a.y1 == b.y1) << k;
+  }
+  EXPECT_FALSE(own_segments.empty());
+  FrameSettings no_shadows = first;
+  no_shadows.shadow_edges = false;  // a finder without receiver trees
+  EXPECT_THROW(FrameRenderer(f.scene, f.ray_scene, f.shader, no_shadows, finder), std::invalid_argument);
+}
+
 // The loop's parallel stages (filter_depth, project_edges, rasterization and edge pixels in
 // bands, the masks, the dither's bands, predictive occupancy) give the same frames under 1 and
 // 4 threads: images, priorities, edge pieces and boundary masks bit for bit, camera moving.

@@ -91,6 +91,31 @@ TEST(Session, AChangedFrameSettingRebuildsTheLoop) {
   EXPECT_TRUE(base.needs_rebuild(soft));
 }
 
+// A rebuild of the loop for another window size or budget keeps the scene's edge finder (its
+// trees took seconds on large meshes, and the window stayed black meanwhile); settings that
+// change what the finder holds (shadow edges off: no receiver trees) build it again.
+TEST(Session, ARebuildKeepsTheEdgeFinderWhileItsSettingsHold) {
+  const Scene scene = test::plane_and_box();
+  SessionInput in = small_input(scene, SessionMode::epi, true);
+  Session session(scene, in);
+  frame_after(session, 0);
+  EXPECT_EQ(session.edge_finder_builds(), 1u);
+  in.settings.frame.width = 80, in.settings.frame.height = 60;
+  in.settings.frame.sample_budget = 0.1;
+  ASSERT_TRUE(in.settings.needs_rebuild(small_input(scene, SessionMode::epi, true).settings));
+  const SessionFrame resized = frame_after(session, session.post(in));
+  EXPECT_EQ(resized.width, 80);
+  EXPECT_EQ(session.edge_finder_builds(), 1u);
+  in.settings.frame.shadow_edges = false;
+  frame_after(session, session.post(in));
+  EXPECT_EQ(session.edge_finder_builds(), 2u);
+  in.settings.mode = SessionMode::rendercache;  // no finder needed: the last one is kept
+  frame_after(session, session.post(in));
+  in.settings.mode = SessionMode::epi;
+  frame_after(session, session.post(in));
+  EXPECT_EQ(session.edge_finder_builds(), 2u);
+}
+
 TEST(Session, EveryStageViewIsNonEmptyAndDistinct) {
   const Scene scene = test::plane_and_box();
   SessionInput in = small_input(scene, SessionMode::epi, true);
