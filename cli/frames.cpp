@@ -156,6 +156,7 @@ int run_render_frames(const RenderOptions& options) {
   settings.sync = options.sync;
   settings.seed = options.seed;
   settings.soft_shadow_edges = options.soft_shadow_edges;
+  settings.sparse_blend = options.sparse_blend;
   settings.trace_ahead = options.trace_ahead;
   if (options.sparse_occlusion_radius) settings.cache.sparse_occlusion_radius = *options.sparse_occlusion_radius;
   if (options.new_occluder_radius) settings.cache.new_occluder_radius = *options.new_occluder_radius;
@@ -167,7 +168,7 @@ int run_render_frames(const RenderOptions& options) {
   struct Series {
     std::array<std::vector<double>, render::kFrameStageCount> stages;  // per render::kFrameStages
     std::vector<double> total, empty, simple, complex_pixels, silhouette, sharp, border, shadow, culled, samples, requested,
-        predicted, points_culled, points_occluded, holes_filled, result_lag;
+        predicted, points_culled, points_occluded, holes_filled, sparse_blended, result_lag;
   } series;
   stage = Clock::now();
   double write_frames_ms = 0.0;
@@ -196,6 +197,7 @@ int run_render_frames(const RenderOptions& options) {
       series.predicted.push_back(double(s.predicted));
       series.points_culled.push_back(double(s.points.culled)), series.points_occluded.push_back(double(s.points.occluded));
       series.holes_filled.push_back(double(s.holes_filled));
+      series.sparse_blended.push_back(double(s.sparse_blended));
       if (s.samples > 0) series.result_lag.push_back(s.result_lag);  // frames that integrated results
       if (!options.frames_out.empty()) {
         const auto t = Clock::now();
@@ -310,7 +312,8 @@ int run_render_frames(const RenderOptions& options) {
         {"points_per_frame",
          {{"depth_culled", mean(series.points_culled)},
           {"occluded", mean(series.points_occluded)},
-          {"holes_filled", mean(series.holes_filled)}}},
+          {"holes_filled", mean(series.holes_filled)},
+          {"sparse_blended", mean(series.sparse_blended)}}},
         {"refined", refined},
         {"sparseness", sampled ? nlohmann::json(sparseness) : nlohmann::json(nullptr)},
         {"samples", total_samples},

@@ -123,6 +123,10 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
     app.add_flag("--soft-shadow-edges", render.soft_shadow_edges,
                  "epi mode: also cut interpolation at area lights' umbral and penumbral edges, as the paper does "
                  "(off by default: it costs quality where a penumbra is a few pixels wide; docs/render.md)");
+    app.add_flag("!--no-sparse-blend", render.sparse_blend,
+                 "epi mode: show sparse regions (samples several pixels apart, as on a surface the camera "
+                 "approaches) as the EPI reconstructs them, a patch per sample, instead of blending them towards "
+                 "an edge-stopping smooth interpolation of the samples (docs/render.md)");
     app.add_option("--sparse-occlusion-radius", render.sparse_occlusion_radius,
                    "epi mode: pixels within which a nearer point standing alone hides the points behind it (a near "
                    "surface magnified by motion is sampled sparsely; docs/render.md). Default 4; 2 turns this "

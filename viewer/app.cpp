@@ -137,6 +137,7 @@ class Viewer {
     s.frame.sync = options.render.sync;
     s.frame.seed = options.render.seed;
     s.frame.soft_shadow_edges = options.render.soft_shadow_edges;
+    s.frame.sparse_blend = options.render.sparse_blend;
     s.frame.trace_ahead = options.render.trace_ahead;
     if (options.render.sparse_occlusion_radius) s.frame.cache.sparse_occlusion_radius = *options.render.sparse_occlusion_radius;
     if (options.render.new_occluder_radius) s.frame.cache.new_occluder_radius = *options.render.new_occluder_radius;
@@ -882,6 +883,7 @@ void Viewer::draw_panel() {
   ImGui::Checkbox("occlusion culling", &s.frame.occlusion_culling);
   ImGui::SameLine();
   ImGui::Checkbox("fill holes", &s.frame.fill_holes);
+  ImGui::Checkbox("smooth sparse regions", &s.frame.sparse_blend);
   ImGui::Checkbox("sync (shade the budget inside each frame)", &s.frame.sync);
   ImGui::Checkbox("trace ahead (camera extrapolated by the lag)", &s.frame.trace_ahead);
   int threads = s.threads;

@@ -22,6 +22,7 @@
 #include "render/edge_projection.h"
 #include "render/frame_stages.h"
 #include "render/hole_fill.h"
+#include "render/sparse_blend.h"
 #include "render/point_cache.h"
 #include "shade/async_shader.h"
 #include "shade/shader.h"
@@ -74,6 +75,8 @@ struct FrameSettings {
   // "Soft-shadow edges"); hard shadow edges of punctual lights are kept either way.
   bool soft_shadow_edges = false;
   bool fill_holes = true;       // epi mode: pixels that reach no sample get their region's nearest colours (hole_fill.h)
+  bool sparse_blend = true;     // epi mode: sparse regions smoothed (sparse_blend.h)
+  SparseBlendSettings sparse;
   bool occlusion_culling = true;
   // Points behind the tangent plane of a nearer point with no geometric edge between them are not
   // drawn (PointCache::cull_behind_surfaces; needs view_edges).
@@ -96,6 +99,7 @@ struct FrameStats {
   size_t requested = 0;  // requests made this frame (incl. predicted)
   size_t predicted = 0;  // of which for predicted gaps
   size_t holes_filled = 0;  // pixels that reached no sample, filled by fill_holes
+  size_t sparse_blended = 0;  // pixels blended towards the smooth interpolation (sparse_blend.h)
   int loop_threads = 0;     // the frame loop's concurrency this frame (FrameSettings::core_split)
   // Frames from a request's choice to its result's integration, mean over this frame's results
   // (the last frame's value when none came); what FrameSettings::trace_ahead extrapolates by.
@@ -214,6 +218,7 @@ class FrameRenderer {
   std::vector<uint8_t> edge_pixels_;  // pixels crossed by edges, by kind (point_cache.h)
   std::vector<uint8_t> holes_, barrier_;  // hole filling
   HoleFillScratch hole_scratch_;
+  SparseBlendScratch sparse_scratch_;
   // Predictive sampling's per-frame scratch: predicted occupancy (then the gaps), depth sums per
   // band of rows, unseen 8x8 blocks, the gap pixels picked, gaps per row.
   std::vector<uint8_t> occupied_, unseen_;

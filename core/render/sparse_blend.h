@@ -1,0 +1,48 @@
+// Sparse regions become smooth, not a mosaic (docs/render.md, "Sparse regions"). Where a moving
+// camera has spread the cached points apart (a surface it approaches), a pixel reaches at most
+// one sample in its 5x5 and the EPI shows each noisy result as a patch. There the image is blended
+// towards a normalized convolution of the EPI's samples (Knutsson and Westin 1993) with an
+// edge-stopping recursive filter (the domain transform's recursive filter, Gastal and Oliveira
+// 2011, whose distance is infinite across a pixel an edge crosses), by the local share of pixels
+// holding a sample: untouched where samples are dense, replaced where they are sparse.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "epi/epi_pixel.h"
+#include "image/image.h"
+
+namespace epi::render {
+
+struct SparseBlendSettings {
+  float sigma = 2.0f;    // the filter's scale in pixels (its kernel's standard deviation)
+  int iterations = 2;    // horizontal + vertical pass pairs (the domain transform's N)
+  float dense = 0.3f;    // local share of pixels holding a sample at and above which the EPI stays
+  float sparse = 0.05f;  // ... at and below which the smooth interpolation replaces it (linear between)
+};
+
+// Per pixel, filtered: linear r, g, b and weight of the samples, and the mass of pixels that are
+// no barrier (the kernel's part inside the image and the pixel's edge-bounded region).
+inline constexpr int kSparseBlendChannels = 5;
+
+struct SparseBlendScratch {
+  std::vector<float> sums;  // kSparseBlendChannels per pixel, filtered in place
+};
+
+// The normalized-convolution sums: per pixel, r, g, b and a weight of 1 where the EPI holds a
+// sample and no barrier, and 1 for every pixel that is no barrier, filtered `iterations` times by
+// rows then columns, each line with the kernel a^|d| (a from the iteration's scale) restarted at
+// each barrier pixel, which keeps zeros.
+void filter_samples(const EpiImage& epi, std::span<const uint8_t> barrier, const SparseBlendSettings& settings,
+                    std::vector<float>& sums);
+
+// Blends `image` (the reconstruction of `epi`) towards rgb / weight by
+// t = clamp((dense - weight / mass) / (dense - sparse), 0, 1) (weight / mass: the local share of
+// pixels holding a sample), except at barrier pixels (non-zero: an edge crosses them) and where
+// no sample is reached. Returns the number of pixels changed.
+size_t sparse_blend(RgbImage& image, const EpiImage& epi, std::span<const uint8_t> barrier,
+                    const SparseBlendSettings& settings, SparseBlendScratch& scratch);
+
+}  // namespace epi::render
