@@ -193,6 +193,25 @@ TEST(FramesCli, NewOccluderRadiusIsAKnobWithTheRenderersDefault) {
   expect_radius_knob("--new-occluder-radius", 8, 4, 16);
 }
 
+// The sparse-region blend: on by default along rooms' walk (the stats count the pixels it blended),
+// --no-sparse-blend shows the EPI's own reconstruction (none blended, other bytes).
+TEST(FramesCli, SparseBlendIsOnByDefaultAndCanBeTurnedOff) {
+  const fs::path dir = temp_dir();
+  const std::string base = "render " + std::string(EPI_SOURCE_DIR) +
+                           "/scenes/rooms.gltf --sync --size 64x48 --frames 20 --quiet --no-speedup";
+  for (const auto& [args, name] : {std::pair{"", "on"}, {" --no-sparse-blend", "off"}}) {
+    const EpiRun run = run_epi(base + args + " -o " + (dir / name).string() + ".exr --stats " + (dir / name).string() + ".json");
+    ASSERT_EQ(run.exit_code, 0) << run.out;
+  }
+  auto blended = [&](const char* name) {
+    return nlohmann::json::parse(read_file(dir / (std::string(name) + ".json")))["points_per_frame"]["sparse_blended"].get<double>();
+  };
+  EXPECT_GT(blended("on"), 0.0);
+  EXPECT_EQ(blended("off"), 0.0);
+  EXPECT_NE(read_file(dir / "on.exr"), read_file(dir / "off.exr"));
+  fs::remove_all(dir);
+}
+
 // --no-trace-ahead: a sync run integrates each frame's results in that frame (lag 0), so nothing
 // is extrapolated and the bytes are the same; the asynchronous loop reports its lag (about 2),
 // averaged over the frames that integrated results: at least one frame, however loaded the machine
