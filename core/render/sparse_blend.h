@@ -18,7 +18,8 @@ namespace epi::render {
 
 struct SparseBlendSettings {
   float sigma = 2.0f;    // the filter's scale in pixels (its kernel's standard deviation)
-  int iterations = 2;    // horizontal + vertical pass pairs (the domain transform's N)
+  int iterations = 1;    // horizontal + vertical pass pairs (the domain transform's N; 2 measured the
+                         // same along the paths at twice the cost)
   float dense = 0.3f;    // local share of pixels holding a sample at and above which the EPI stays
   float sparse = 0.05f;  // ... at and below which the smooth interpolation replaces it (linear between)
 };
@@ -28,17 +29,23 @@ struct SparseBlendSettings {
 inline constexpr int kSparseBlendChannels = 5;
 
 struct SparseBlendScratch {
-  std::vector<float> sums;  // kSparseBlendChannels per pixel, filtered in place
+  std::vector<float> sums;  // filter_samples' planes
 };
 
-// The normalized-convolution sums: per pixel, r, g, b and a weight of 1 where the EPI holds a
-// sample and no barrier, and 1 for every pixel that is no barrier, filtered `iterations` times by
-// rows then columns, each line with the kernel a^|d| (a from the iteration's scale) restarted at
-// each barrier pixel, which keeps zeros.
+// The normalized-convolution sums, as kSparseBlendChannels planes of width x height floats (plane
+// c of pixel i at sums[c * width * height + i]; a keep mask follows them): r, g, b and a weight of
+// 1 where the EPI holds a sample and no barrier, and 1 for every pixel that is no barrier,
+// filtered `iterations` times by rows then columns, each line with the kernel a^|d| (a from the
+// iteration's scale) restarted at each barrier pixel, which keeps zeros.
 void filter_samples(const EpiImage& epi, std::span<const uint8_t> barrier, const SparseBlendSettings& settings,
                     std::vector<float>& sums);
 
-// Blends `image` (the reconstruction of `epi`) towards rgb / weight by
+// Whether some kSparseBlendBlock-square block of the EPI (cut by the image's border) has fewer
+// samples than `dense` times its pixels: sparse_blend does nothing in frames where none has.
+inline constexpr int kSparseBlendBlock = 8;
+bool any_sparse_block(const EpiImage& epi, float dense);
+
+// In frames with a sparse block (any_sparse_block), blends `image` (the reconstruction of `epi`) towards rgb / weight by
 // t = clamp((dense - weight / mass) / (dense - sparse), 0, 1) (weight / mass: the local share of
 // pixels holding a sample), except at barrier pixels (non-zero: an edge crosses them) and where
 // no sample is reached. Returns the number of pixels changed.
