@@ -21,6 +21,7 @@
 #include "presets.h"
 #include "epi/interpolate.h"
 #include "render/hole_fill.h"
+#include "render/sparse_blend.h"
 #include "render/renderer.h"
 #include "snapshot.h"
 #include "steps.h"
@@ -216,7 +217,8 @@ TEST(Snapshot, RenderedFrameRoundTripGivesTheFrameExactly) {
   RayScene ray_scene(scene);
   const Shader shader(ray_scene, ShaderSettings{});
   render::FrameSettings settings = snapshot_frame_settings(0.08);
-  settings.fill_holes = false;  // the frame loop's hole filling comes after the EPI (core/render), not in it
+  settings.fill_holes = false;    // the frame loop's hole filling and sparse blend come after the
+  settings.sparse_blend = false;  // EPI (core/render), not in it
   render::FrameRenderer renderer(scene, ray_scene, shader, settings);
   const RgbImage* frame = nullptr;
   for (int k = 0; k < 4; ++k) frame = &renderer.render(scene.cameras[0]);
@@ -237,7 +239,8 @@ TEST(Snapshot, RenderedFrameRoundTripGivesTheFrameExactly) {
 
 // With the frame loop's hole fill on (the default), the renderer reconstructs with
 // blend_unreached_near_edges off; its snapshot must say so, or the visualizer shows blends the
-// frame never had. The snapshot's reconstruction, hole-filled as the renderer does, is the frame.
+// frame never had. The snapshot's reconstruction, sparse-blended and hole-filled as the renderer
+// does, is the frame.
 TEST(Snapshot, RenderedFrameWithHoleFillCarriesTheRenderersReconstructSettings) {
   const Scene scene = test::plane_and_box();
   RayScene ray_scene(scene);
@@ -254,7 +257,11 @@ TEST(Snapshot, RenderedFrameWithHoleFillCarriesTheRenderersReconstructSettings) 
   EpiImage epi = back.epi;
   Reconstruction r = reconstruct_oracle(epi, back.masks, back.settings);
   EXPECT_EQ(r.priority, renderer.priority());
-  // The hole fill as the renderer applies it (core/render/renderer.cpp).
+  const RgbImage unfilled = r.image;
+  // The sparse blend and the hole fill as the renderer applies them (core/render/renderer.cpp).
+  ASSERT_TRUE(settings.sparse_blend);
+  render::SparseBlendScratch scratch;
+  render::sparse_blend(r.image, back.epi, renderer.edge_pixels(), settings.sparse, scratch);
   const size_t n = r.priority.size();
   std::vector<uint8_t> holes(n), barrier(n);
   for (size_t i = 0; i < n; ++i) {
@@ -262,7 +269,6 @@ TEST(Snapshot, RenderedFrameWithHoleFillCarriesTheRenderersReconstructSettings) 
     holes[i] = r.priority[i] >= kMaxPriority && c[0] == 0.0f && c[1] == 0.0f && c[2] == 0.0f;
     barrier[i] = (renderer.edge_pixels()[i] & (render::kDepthEdge | render::kSharpEdge)) != 0;
   }
-  const RgbImage unfilled = r.image;
   render::fill_holes(r.image, holes, barrier);
   EXPECT_EQ(r.image.pixels, frame->pixels);
   // The setting matters in this frame: with the blend on, some unreached pixel beside an edge
