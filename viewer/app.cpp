@@ -884,7 +884,9 @@ void Viewer::draw_panel() {
   ImGui::SameLine();
   ImGui::Checkbox("fill holes", &s.frame.fill_holes);
   ImGui::Checkbox("smooth sparse regions", &s.frame.sparse_blend);
-  ImGui::Checkbox("sync (shade the budget inside each frame)", &s.frame.sync);
+  ImGui::SameLine();
+  ImGui::Checkbox("sync", &s.frame.sync);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("shade the budget inside each frame (deterministic for a seed)");
   ImGui::Checkbox("trace ahead (camera extrapolated by the lag)", &s.frame.trace_ahead);
   int threads = s.threads;
   if (ImGui::InputInt("threads (0: all)", &threads) && threads >= 0 && threads <= 1024) s.threads = threads;
