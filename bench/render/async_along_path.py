@@ -134,38 +134,38 @@ def along_path(a, scene, size, refs, flags):
     return runs
 
 
-def held_at_keys(a, scene, size, keys, refs, flags):
-    """Per seed, the last of 60 frames with the camera held at each chosen key, averaged over the keys."""
+def at_keys(a, refs, image_at):
+    """Per seed, the errors of one image per chosen key (image_at(seed, key, work) writes it into the
+    folder `work` and returns its path), averaged over the keys."""
     runs = []
     for seed in a.seeds.split(","):
         errors = []
         for k, ref in refs.items():
-            work = tempfile.mkdtemp(prefix="epi_still_")
+            work = tempfile.mkdtemp(prefix="epi_key_")
             try:
-                render(a, scene, size, seed, flags + camera_flags(keys[k]), work)
-                errors.append(compare(a.epi, os.path.join(work, "last.exr"), ref))
+                errors.append(compare(a.epi, image_at(seed, k, work), ref))
             finally:
                 shutil.rmtree(work)
         runs.append(tuple(statistics.mean(e[i] for e in errors) for i in range(3)))
     return runs
+
+
+def held_at_keys(a, scene, size, keys, refs, flags):
+    """Per seed, the last of 60 frames with the camera held at each chosen key, averaged over the keys."""
+    def still(seed, k, work):
+        render(a, scene, size, seed, flags + camera_flags(keys[k]), work)
+        return os.path.join(work, "last.exr")
+    return at_keys(a, refs, still)
 
 
 def ray_traced_at_keys(a, scene, size, keys, refs):
     """Per seed, a 1-spp ray trace of each chosen view, averaged over the keys."""
-    runs = []
-    for seed in a.seeds.split(","):
-        errors = []
-        for k, ref in refs.items():
-            work = tempfile.mkdtemp(prefix="epi_rt_")
-            try:
-                subprocess.run([a.epi, "render", scene, "--mode", "raytrace", "--spp", "1", "--size", size, "--seed", seed,
-                                "--quiet", "-o", os.path.join(work, "rt.exr")] + camera_flags(keys[k]),
-                               check=True, stdout=subprocess.DEVNULL)
-                errors.append(compare(a.epi, os.path.join(work, "rt.exr"), ref))
-            finally:
-                shutil.rmtree(work)
-        runs.append(tuple(statistics.mean(e[i] for e in errors) for i in range(3)))
-    return runs
+    def ray_trace(seed, k, work):
+        out = os.path.join(work, "rt.exr")
+        subprocess.run([a.epi, "render", scene, "--mode", "raytrace", "--spp", "1", "--size", size, "--seed", seed,
+                        "--quiet", "-o", out] + camera_flags(keys[k]), check=True, stdout=subprocess.DEVNULL)
+        return out
+    return at_keys(a, refs, ray_trace)
 
 
 if __name__ == "__main__":
