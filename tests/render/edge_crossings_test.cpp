@@ -2,6 +2,7 @@
 // brute-force test of every piece, and the occlusion test at pixels an edge crosses.
 #include <cmath>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -327,6 +328,18 @@ TEST(PointCache, ANewOccluderHidesTheFarPointsWithinItsRadiusForAFewFrames) {
   EXPECT_THROW(PointCache(w, h, too_wide), std::invalid_argument);
 }
 
+// Asserts that exactly the far points within Chebyshev distance `reach` of the near point
+// (nx, ny) and at x <= last_x are hidden (the near point's own pixel not checked).
+void expect_hidden_within(const std::vector<bool>& drawn, int w, int h, int nx, int ny, int reach, int last_x,
+                          const std::string& context) {
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (x == nx && y == ny) continue;
+      const bool within = std::max(std::abs(x - nx), std::abs(y - ny)) <= reach && x <= last_x;
+      ASSERT_EQ(drawn[size_t(y * w + x)], !within) << context << ", far point " << x << "," << y;
+    }
+}
+
 // A new occluder does not hide across an edge: a silhouette 3.4 pixels to the right of the near
 // point keeps every far point beyond it, at the new-occluder radius as at the smaller ones.
 TEST(PointCache, ANewOccluderStopsAtAnEdge) {
@@ -339,14 +352,7 @@ TEST(PointCache, ANewOccluderStopsAtAnEdge) {
   EdgeCrossings crossings;
   crossings.build(silhouette, kinds, w, h);
   const PointCache cache = near_over_far(frame, far_plane(frame), near, PointCacheSettings{}, crossings);
-  const std::vector<bool> drawn = far_drawn(cache);
-  const int radius = PointCacheSettings{}.new_occluder_radius;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      if (x == nx && y == ny) continue;
-      const bool within = std::max(std::abs(x - nx), std::abs(y - ny)) <= radius && x <= nx + 3;
-      ASSERT_EQ(drawn[size_t(y * w + x)], !within) << x << "," << y;
-    }
+  expect_hidden_within(far_drawn(cache), w, h, nx, ny, PointCacheSettings{}.new_occluder_radius, nx + 3, "edge");
 }
 
 // An edge behind a new occluder does not stop it: the same silhouette as above at the far
@@ -365,12 +371,7 @@ TEST(PointCache, AnEdgeBehindANewOccluderDoesNotStopIt) {
     EdgeCrossings crossings;
     crossings.build(silhouette, kinds, w, h, std::vector<glm::dvec2>{{1.0 / edge_depth, 1.0 / edge_depth}});
     const std::vector<bool> drawn = far_drawn(near_over_far(frame, far_plane(frame), near, PointCacheSettings{}, crossings));
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        if (x == nx && y == ny) continue;
-        const bool within = std::max(std::abs(x - nx), std::abs(y - ny)) <= radius && (edge_depth > 12.0 || x <= nx + 3);
-        ASSERT_EQ(drawn[size_t(y * w + x)], !within) << "edge at depth " << edge_depth << ", far point " << x << "," << y;
-      }
+    expect_hidden_within(drawn, w, h, nx, ny, radius, edge_depth > 12.0 ? w : nx + 3, "edge at depth " + std::to_string(edge_depth));
   }
   // No new occluder (the near result inserted first): the sparse radius, stopped by the far edge.
   EdgeCrossings crossings;
@@ -382,14 +383,7 @@ TEST(PointCache, AnEdgeBehindANewOccluderDoesNotStopIt) {
   cache.insert(frame, far_plane(frame), identity);
   cache.project(frame, identity, false);
   cache.cull_behind_surfaces(frame, identity, crossings);
-  const std::vector<bool> drawn = far_drawn(cache);
-  const int sparse = PointCacheSettings{}.sparse_occlusion_radius;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      if (x == nx && y == ny) continue;
-      const bool within = std::max(std::abs(x - nx), std::abs(y - ny)) <= sparse && x <= nx + 3;
-      ASSERT_EQ(drawn[size_t(y * w + x)], !within) << "no new occluder, far point " << x << "," << y;
-    }
+  expect_hidden_within(far_drawn(cache), w, h, nx, ny, PointCacheSettings{}.sparse_occlusion_radius, nx + 3, "no new occluder");
 }
 
 }  // namespace
