@@ -9,6 +9,8 @@
 #   SCALING_FRAME         render_bench filter [BM_FrameThreads: every scene at 1080p, the loop held
 #                         to 1, 2, 4, ... threads up to the cores by a task arena]
 #   SCALING_TABLE2        render_bench filter run on 2 cores, the paper's table 2 [every scene, 512²]
+#   SCALING_STAGES        render_stages_bench filter [the sparse blend at 1080p, oracle and kernels,
+#                         1, 2, 4, ... threads]
 # Any of them "none" skips that part.
 set -euo pipefail
 [ $# -ge 2 ] || { echo "usage: $0 OUT_DIR LABEL=BUNDLE.tar.xz [...]" >&2; exit 2; }
@@ -18,6 +20,7 @@ mkdir -p "$out"
 reconstruct=${SCALING_RECONSTRUCT:-'BM_StreamingFloor/(1920|3840)|BM_Reconstruct/(1920/1080|3840/2160)/1/'}
 frame=${SCALING_FRAME:-'BM_FrameThreads/[0-4]/1920/1080/'}
 table2=${SCALING_TABLE2:-'BM_Frame/[0-4]/512/512/2/'}
+stages=${SCALING_STAGES:-'BM_SparseBlend/1920/1080/10/'}
 json=(--benchmark_out_format=json)
 for spec in "$@"; do
   label=${spec%%=*} bundle=${spec#*=}
@@ -30,6 +33,10 @@ for spec in "$@"; do
     mkdir -p "$(dirname "$src")" && ln -sfn "$root" "$src" || { echo "$0: cannot link $src to $root (the scenes)" >&2; exit 1; }
   fi
   export LD_LIBRARY_PATH=$b/lib
+  if [ "$stages" != none ]; then
+    echo "== $label: frame-loop stages on 1, 2, 4, ... threads"
+    "$b/render_stages_bench" --benchmark_filter="$stages" --benchmark_out="$out/${label}_stages.json" "${json[@]}" 2>&1 | grep -E "^BM_" | cut -c1-160
+  fi
   if [ "$frame" != none ]; then
     echo "== $label: frame loop on 1, 2, 4, ... threads"
     "$b/render_bench" --benchmark_filter="$frame" --benchmark_out="$out/${label}_frame.json" "${json[@]}" 2>&1 | grep -E "^BM_" | cut -c1-160

@@ -144,7 +144,8 @@ def main():
         print()
         # Where the frame stops scaling: each loop stage at the fewest and the most threads.
         stages = [("points", "points_ms"), ("sampling", "sampling_ms"), ("find + rasterize edges", "find_edges_ms+rasterize_edges_ms"),
-                  ("reconstruction", "classify_ms+reachability_ms+interpolate_ms+antialias_ms+complex_ms")]
+                  ("reconstruction", "classify_ms+reachability_ms+interpolate_ms+antialias_ms+complex_ms"),
+                  ("sparse blend", "sparse_blend_ms")]
         print("Per stage, ms at the fewest and the most threads measured (speed-up):\n")
         print("| build | scene | size | threads | " + " | ".join(n for n, _ in stages) + " | loop |")
         print("|---|---|---|---|" + "---|" * (len(stages) + 1))

@@ -8,7 +8,7 @@
 set -euo pipefail
 [ $# -eq 2 ] || { echo "usage: $0 BUILD_DIR OUT.tar.xz" >&2; exit 2; }
 build=$1 out=$2
-programs=(epi_bench render_bench render_points_bench)
+programs=(epi_bench render_bench render_points_bench render_stages_bench)
 stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
 mkdir -p "$stage/b/lib"

@@ -81,7 +81,8 @@ const char* const kStageNames[] = {"final", "points (age)", "edges (kind)", "pix
 // One colour per loop stage of render::kFrameStages (shading is not the loop's time).
 const ImU32 kStageTimeColors[] = {IM_COL32(255, 210, 40, 255), IM_COL32(255, 140, 0, 255), IM_COL32(80, 200, 80, 255),
                                   IM_COL32(60, 160, 255, 255), IM_COL32(160, 100, 255, 255), IM_COL32(255, 90, 170, 255),
-                                  IM_COL32(200, 200, 200, 255), IM_COL32(255, 60, 60, 255), IM_COL32(120, 255, 230, 255)};
+                                  IM_COL32(200, 200, 200, 255), IM_COL32(255, 60, 60, 255), IM_COL32(170, 120, 60, 255),
+                                  IM_COL32(120, 255, 230, 255)};
 constexpr int kStageTimeCount = int(std::size(kStageTimeColors));
 static_assert(kStageTimeCount == int(render::FrameStage::shade) && render::kFrameStages[kStageTimeCount - 1].loop &&
               !render::kFrameStages[kStageTimeCount].loop, "a colour per loop stage (the loop stages come first)");

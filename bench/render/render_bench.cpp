@@ -66,7 +66,7 @@ void frames(benchmark::State& state, int mode, int threads) {
   for (int k = 0; k < kPathFrames; ++k) renderer.render(path.camera_at(frame++ % kPathFrames));
   tbb::task_arena loop_arena(threads > 0 ? threads : int(tbb::task_arena::automatic));
   StageTimes sum;
-  double samples = 0, simple = 0, complex = 0, edges = 0, culled = 0;
+  double samples = 0, simple = 0, complex = 0, edges = 0, culled = 0, blended = 0;
   int64_t frames = 0;
   for (auto _ : state) {
     loop_arena.execute([&] { renderer.render(path.camera_at(frame++ % kPathFrames)); });
@@ -75,6 +75,7 @@ void frames(benchmark::State& state, int mode, int threads) {
     for (size_t k = 0; k < sum.ms.size(); ++k) sum.ms[k] += f.ms.ms[k];
     sum.total += f.ms.loop_ms();
     samples += double(f.samples);
+    blended += double(f.sparse_blended);
     simple += double(f.pixels.simple), complex += double(f.pixels.complex);
     edges += double(f.edges.silhouette + f.edges.sharp + f.edges.border + f.edges.shadow), culled += double(f.edges.culled);
     ++frames;
@@ -88,6 +89,7 @@ void frames(benchmark::State& state, int mode, int threads) {
   state.counters["sparseness"] = pixels / std::max(1.0, samples / n);
   state.counters["simple_pct"] = 100.0 * simple / n / pixels;
   state.counters["complex_pct"] = 100.0 * complex / n / pixels;
+  state.counters["sparse_blended_pct"] = 100.0 * blended / n / pixels;
   state.counters["edges"] = edges / n;
   state.counters["culled"] = culled / n;
   state.counters["loop_threads"] = renderer.stats().loop_threads;

@@ -7,12 +7,18 @@
 //                           pixel into the view a few frames ahead. args: width, height, stride, threads.
 //   BM_FillHoles            the hole fill after fast motion: `holes` per mille of the pixels in
 //                           blobs of up to 8x8, one barrier column in 16. args: width, height, holes ‰, threads.
+//   BM_SparseBlend          the sparse regions' blend (sparse_blend.h) over an EPI holding a sample in
+//                           `density` percent of its pixels at random, barriers along one row and
+//                           one column in 32; kernel 0: the scalar oracle (sparse_blend_reference),
+//                           1: the Highway kernels (sparse_blend), outputs checked equal first.
+//                           args: width, height, density %, threads, kernel.
 //   render_stages_bench --benchmark_format=json > stages.json
 // Against an earlier build: run its binary on the same arguments one after the other.
 #include <limits>
 #include <map>
 #include <memory>
 #include <random>
+#include <thread>
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
@@ -20,6 +26,7 @@
 #include "render/edge_projection.h"
 #include "render/hole_fill.h"
 #include "render/sampling.h"
+#include "render/sparse_blend.h"
 
 namespace epi::render {
 namespace {
@@ -131,6 +138,53 @@ void BM_FillHoles(benchmark::State& state) {
   state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(w) * int64_t(h));  // pixels per second
 }
 BENCHMARK(BM_FillHoles)->ArgsProduct({{1920}, {1080}, {5, 50}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+void BM_SparseBlend(benchmark::State& state) {
+  const int w = int(state.range(0)), h = int(state.range(1));
+  tbb::global_control threads(tbb::global_control::max_allowed_parallelism, size_t(state.range(3)));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  EpiImage epi(w, h);
+  const float density = float(state.range(2)) / 100.0f;
+  for (size_t i = 0; i < epi.edge.size(); ++i)
+    if (u(rng) < density) epi.edge[i] = bits::kHasSample | bits::kUsable, epi.color[i] = uint32_t(rng()) & 0xffffffu;
+  std::vector<uint8_t> barrier(size_t(w) * size_t(h), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) barrier[size_t(y) * size_t(w) + size_t(x)] = x % 32 == 5 || y % 32 == 9;
+  RgbImage image(w, h);
+  for (float& v : image.pixels) v = u(rng);
+  SparseBlendScratch scratch;
+  const bool kernels = state.range(4) != 0;
+  auto blend = [&](RgbImage& out) {
+    return kernels ? sparse_blend(out, epi, barrier, SparseBlendSettings{}, scratch)
+                   : sparse_blend_reference(out, epi, barrier, SparseBlendSettings{}, scratch.sums);
+  };
+  RgbImage work = image, oracle = image;
+  blend(work);
+  sparse_blend_reference(oracle, epi, barrier, SparseBlendSettings{}, scratch.sums);
+  if (work.pixels != oracle.pixels) {
+    state.SkipWithError("the kernels differ from the oracle");
+    return;
+  }
+  for (auto _ : state) {
+    state.PauseTiming();
+    work.pixels = image.pixels;
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(blend(work));
+  }
+  state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(w) * int64_t(h));  // pixels per second
+  state.SetLabel(kernels ? "kernels" : "oracle");
+}
+BENCHMARK(BM_SparseBlend)
+    ->ArgsProduct({{512}, {512}, {10}, {1, 2}, {0, 1}})
+    ->ArgsProduct({{1920}, {1080}, {2, 10, 40}, {1, 2}, {0, 1}})
+    ->ArgsProduct({{3840}, {2160}, {10}, {2}, {0, 1}})
+    ->Apply([](benchmark::internal::Benchmark* b) {  // past two cores, where the machine has them
+      for (int threads = 4; threads <= int(std::thread::hardware_concurrency()); threads *= 2)
+        for (int kernels : {0, 1}) b->Args({1920, 1080, 10, threads, kernels});
+    })
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace epi::render

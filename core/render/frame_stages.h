@@ -20,6 +20,7 @@ enum class FrameStage : int {
   interpolate,      // ... interpolate includes the hole fill
   antialias,
   complex,
+  sparse_blend,     // sparse regions smoothed (sparse_blend.h), after the reconstruction
   sampling,         // choose the next requests: predictive occupancy, dither, submit
   shade,            // sync mode only: shading this frame's budget (inside the total, not a loop stage)
   count,
@@ -42,6 +43,7 @@ inline constexpr std::array<FrameStageInfo, kFrameStageCount> kFrameStages = {{
     {FrameStage::interpolate, "interpolate", "interp", true},
     {FrameStage::antialias, "antialias", "AA", true},
     {FrameStage::complex, "complex", "complex", true},
+    {FrameStage::sparse_blend, "sparse_blend", "sparse", true},
     {FrameStage::sampling, "sampling", "sampling", true},
     {FrameStage::shade, "shade_sync", "shade", false},
 }};

@@ -443,7 +443,7 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   if (settings_.mode == RenderMode::epi && settings_.sparse_blend) {
     const auto tb = Clock::now();
     stats_.sparse_blended = sparse_blend(reconstruction_.image, epi_, edge_pixels_, settings_.sparse, sparse_scratch_);
-    stats_.ms[FrameStage::interpolate] += ms_since(tb);
+    stats_.ms[FrameStage::sparse_blend] = ms_since(tb);
   }
   // Epi mode: pixels that reached no sample (black, top priority) filled from their own region.
   if (settings_.mode == RenderMode::epi && settings_.fill_holes) {

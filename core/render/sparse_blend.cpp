@@ -9,6 +9,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
+#include "render/sparse_blend_kernels.h"
+
 namespace epi::render {
 
 namespace {
@@ -76,34 +78,55 @@ void filter_rows(float* planes, const float* keep, size_t n, int w, int y0, int 
   }
 }
 
+// The filter's inputs at pixel i: linear r, g, b and a weight of 1 where the EPI holds a sample
+// and no barrier (else zeros), and a mass of 1 where no barrier.
+void pixel_values(const EpiImage& epi, std::span<const uint8_t> barrier, size_t i, float v[C]) {
+  const bool sample = has_sample(epi.edge[i]) && !barrier[i];
+  float rgb[3] = {0.0f, 0.0f, 0.0f};
+  if (sample) decode_color(epi.color[i], rgb);
+  v[0] = rgb[0], v[1] = rgb[1], v[2] = rgb[2];
+  v[3] = sample ? 1.0f : 0.0f;
+  v[4] = barrier[i] ? 0.0f : 1.0f;
+}
+
+void check_inputs(const EpiImage& epi, std::span<const uint8_t> barrier, const SparseBlendSettings& settings) {
+  if (barrier.size() != size_t(epi.width) * size_t(epi.height))
+    throw std::invalid_argument("sparse_blend: one barrier flag per pixel");
+  if (!(settings.sigma > 0.0f) || settings.iterations < 1) throw std::invalid_argument("sparse_blend: sigma > 0, iterations >= 1");
+}
+
+// The domain transform's scales: iteration k (from 0) filters at
+// sigma sqrt(3) 2^(N-k-1) / sqrt(4^N - 1), so that the N iterations make sigma together; the
+// recursion's coefficient a = exp(-sqrt 2 / sigma_k).
+float blend_span(const SparseBlendSettings& settings) { return std::max(settings.dense - settings.sparse, 1e-6f); }
+
+float iteration_coefficient(const SparseBlendSettings& settings, int k) {
+  const int iterations = settings.iterations;
+  const float sigma_k = settings.sigma * std::sqrt(3.0f) * std::exp2(float(iterations - k - 1)) /
+                        std::sqrt(std::exp2(2.0f * float(iterations)) - 1.0f);
+  return std::exp(-std::sqrt(2.0f) / sigma_k);
+}
+
 }  // namespace
 
 void filter_samples(const EpiImage& epi, std::span<const uint8_t> barrier, const SparseBlendSettings& settings,
                     std::vector<float>& sums) {
+  check_inputs(epi, barrier, settings);
   const int w = epi.width, h = epi.height;
   const size_t n = size_t(w) * size_t(h);
-  if (barrier.size() != n) throw std::invalid_argument("sparse_blend: one barrier flag per pixel");
-  if (!(settings.sigma > 0.0f) || settings.iterations < 1) throw std::invalid_argument("sparse_blend: sigma > 0, iterations >= 1");
   // Planes r, g, b, weight, mass, then the keep mask (1 where no barrier).
   sums.resize((C + 1) * n);
   float* keep = sums.data() + C * n;
   tbb::parallel_for(0, h, [&](int y) {
     for (size_t i = size_t(y) * size_t(w), end = i + size_t(w); i != end; ++i) {
-      float rgb[3] = {0.0f, 0.0f, 0.0f};
-      const bool sample = has_sample(epi.edge[i]) && !barrier[i];
-      if (sample) decode_color(epi.color[i], rgb);
-      sums[i] = rgb[0], sums[n + i] = rgb[1], sums[2 * n + i] = rgb[2];
-      sums[3 * n + i] = sample ? 1.0f : 0.0f;
-      sums[4 * n + i] = keep[i] = barrier[i] ? 0.0f : 1.0f;
+      float v[C];
+      pixel_values(epi, barrier, i, v);
+      for (size_t c = 0; c < C; ++c) sums[c * n + i] = v[c];
+      keep[i] = barrier[i] ? 0.0f : 1.0f;
     }
   });
-  // The domain transform's scales: iteration k (from 0) filters at
-  // sigma sqrt(3) 2^(N-k-1) / sqrt(4^N - 1), so that the N iterations make sigma together.
-  const int iterations = settings.iterations;
-  for (int k = 0; k < iterations; ++k) {
-    const float sigma_k = settings.sigma * std::sqrt(3.0f) * std::exp2(float(iterations - k - 1)) /
-                          std::sqrt(std::exp2(2.0f * float(iterations)) - 1.0f);
-    const float a = std::exp(-std::sqrt(2.0f) / sigma_k);
+  for (int k = 0; k < settings.iterations; ++k) {
+    const float a = iteration_coefficient(settings, k);
     tbb::parallel_for(0, (h + kRows - 1) / kRows, [&](int group) {
       thread_local std::vector<float> forward;
       filter_rows(sums.data(), keep, n, w, group * kRows, std::min(h, (group + 1) * kRows), a, forward);
@@ -137,13 +160,14 @@ bool any_sparse_block(const EpiImage& epi, float dense) {
       std::logical_or<bool>());
 }
 
-size_t sparse_blend(RgbImage& image, const EpiImage& epi, std::span<const uint8_t> barrier,
-                    const SparseBlendSettings& settings, SparseBlendScratch& scratch) {
+size_t sparse_blend_reference(RgbImage& image, const EpiImage& epi, std::span<const uint8_t> barrier,
+                              const SparseBlendSettings& settings, std::vector<float>& sums) {
+  check_inputs(epi, barrier, settings);
   if (!any_sparse_block(epi, settings.dense)) return 0;  // a still view: nothing to blend
-  filter_samples(epi, barrier, settings, scratch.sums);
+  filter_samples(epi, barrier, settings, sums);
   const size_t n = size_t(epi.width) * size_t(epi.height);
-  const float* s = scratch.sums.data();
-  const float span = std::max(settings.dense - settings.sparse, 1e-6f);
+  const float* s = sums.data();
+  const float span = blend_span(settings);
   return tbb::parallel_reduce(
       tbb::blocked_range<size_t>(0, n, 1 << 14), size_t(0),
       [&](const tbb::blocked_range<size_t>& r, size_t changed) {
@@ -161,6 +185,74 @@ size_t sparse_blend(RgbImage& image, const EpiImage& epi, std::span<const uint8_
         return changed;
       },
       std::plus<size_t>());
+}
+
+size_t sparse_blend(RgbImage& image, const EpiImage& epi, std::span<const uint8_t> barrier,
+                    const SparseBlendSettings& settings, SparseBlendScratch& scratch) {
+  check_inputs(epi, barrier, settings);
+  if (!any_sparse_block(epi, settings.dense)) return 0;  // a still view: nothing to blend
+  const int w = epi.width, h = epi.height;
+  const size_t n = size_t(w) * size_t(h);
+  constexpr int L = kSparseRowLanes;
+  scratch.sums.resize(C * n);
+  float* planes = scratch.sums.data();
+  const float* lut = epi_color8_to_linear().data();
+  size_t changed = 0;
+  for (int k = 0; k < settings.iterations; ++k) {
+    const float a = iteration_coefficient(settings, k);
+    // Rows, L at a time in vector lanes: the group's values gathered into lanes (from the EPI at
+    // the first iteration, from the planes after), filtered, put back into the planes.
+    tbb::parallel_for(0, (h + L - 1) / L, [&](int group) {
+      thread_local std::vector<float> lanes, keep, forward;
+      lanes.resize(size_t(w) * C * L), keep.resize(size_t(w) * L), forward.resize(size_t(w) * C * L);
+      // The group's rows that lie in the image; rows below it stay zeros, kept still.
+      const int rows = std::min(L, h - group * L);
+      const size_t first = size_t(group) * L * size_t(w);
+      if (rows < L) std::fill(lanes.begin(), lanes.end(), 0.0f), std::fill(keep.begin(), keep.end(), 0.0f);
+      for (int x = 0; x < w; ++x) {
+        float* v = lanes.data() + size_t(x) * C * L;  // channel c of row r at v[c L + r]
+        float* kept = keep.data() + size_t(x) * L;
+        for (int r = 0; r < rows; ++r) {
+          const size_t i = first + size_t(r) * size_t(w) + size_t(x);
+          kept[r] = barrier[i] ? 0.0f : 1.0f;
+          if (k == 0) {  // pixel_values, with the table at hand (lut[0] is 0: no sample, black)
+            const bool sample = !barrier[i] && has_sample(epi.edge[i]);
+            const uint32_t colour = sample ? epi.color[i] : 0u;
+            v[r] = lut[colour & 255], v[L + r] = lut[(colour >> 8) & 255], v[2 * L + r] = lut[(colour >> 16) & 255];
+            v[3 * L + r] = sample ? 1.0f : 0.0f;
+            v[4 * L + r] = kept[r];
+          } else {
+            for (size_t c = 0; c < C; ++c) v[c * L + size_t(r)] = planes[c * n + i];
+          }
+        }
+      }
+      filter_row_lanes(lanes.data(), keep.data(), forward.data(), w, a);
+      // Back to the planes in blocks of 16 pixels: each plane row's cache line written at once.
+      for (int x0 = 0; x0 < w; x0 += 16) {
+        const int x1 = std::min(w, x0 + 16);
+        for (size_t c = 0; c < C; ++c)
+          for (int r = 0; r < rows; ++r) {
+            float* out = planes + c * n + first + size_t(r) * size_t(w);
+            const float* in = lanes.data() + c * L + size_t(r);
+            for (int x = x0; x < x1; ++x) out[x] = in[size_t(x) * C * L];
+          }
+      }
+    });
+    // Columns, in strips; the last iteration's blends the image instead of writing the planes.
+    const bool last = k + 1 == settings.iterations;
+    changed = tbb::parallel_reduce(
+        tbb::blocked_range<int>(0, (w + kSparseStrip - 1) / kSparseStrip), size_t(0),
+        [&](const tbb::blocked_range<int>& strips, size_t count) {
+          thread_local std::vector<float> forward;
+          forward.resize(size_t(h) * C * kSparseStrip);
+          for (int strip = strips.begin(); strip != strips.end(); ++strip)
+            count += filter_column_strip({planes, n, barrier.data(), w, h, strip * kSparseStrip, a, forward.data(),
+                                          last ? image.pixels.data() : nullptr, settings.dense, blend_span(settings)});
+          return count;
+        },
+        std::plus<size_t>());
+  }
+  return changed;
 }
 
 }  // namespace epi::render

@@ -29,10 +29,10 @@ struct SparseBlendSettings {
 inline constexpr int kSparseBlendChannels = 5;
 
 struct SparseBlendScratch {
-  std::vector<float> sums;  // filter_samples' planes
+  std::vector<float> sums;  // the filtered planes
 };
 
-// The normalized-convolution sums, as kSparseBlendChannels planes of width x height floats (plane
+// The normalized-convolution sums (the scalar definition, the oracle of sparse_blend's kernels), as kSparseBlendChannels planes of width x height floats (plane
 // c of pixel i at sums[c * width * height + i]; a keep mask follows them): r, g, b and a weight of
 // 1 where the EPI holds a sample and no barrier, and 1 for every pixel that is no barrier,
 // filtered `iterations` times by rows then columns, each line with the kernel a^|d| (a from the
@@ -45,11 +45,17 @@ void filter_samples(const EpiImage& epi, std::span<const uint8_t> barrier, const
 inline constexpr int kSparseBlendBlock = 8;
 bool any_sparse_block(const EpiImage& epi, float dense);
 
-// In frames with a sparse block (any_sparse_block), blends `image` (the reconstruction of `epi`) towards rgb / weight by
-// t = clamp((dense - weight / mass) / (dense - sparse), 0, 1) (weight / mass: the local share of
-// pixels holding a sample), except at barrier pixels (non-zero: an edge crosses them) and where
-// no sample is reached. Returns the number of pixels changed.
+// In frames with a sparse block (any_sparse_block), blends `image` (the reconstruction of `epi`)
+// towards rgb / weight by t = clamp((dense - weight / mass) / (dense - sparse), 0, 1)
+// (weight / mass: the local share of pixels holding a sample), except at barrier pixels (non-zero:
+// an edge crosses them) and where no sample is reached. Returns the number of pixels changed.
+// The filter runs as Highway kernels (sparse_blend_kernels.h): rows eight at a time in vector
+// lanes, columns in strips of 16, the blend in the columns' last sweep.
 size_t sparse_blend(RgbImage& image, const EpiImage& epi, std::span<const uint8_t> barrier,
                     const SparseBlendSettings& settings, SparseBlendScratch& scratch);
+
+// sparse_blend over filter_samples and a plain per-pixel loop: its oracle, the same bits.
+size_t sparse_blend_reference(RgbImage& image, const EpiImage& epi, std::span<const uint8_t> barrier,
+                              const SparseBlendSettings& settings, std::vector<float>& sums);
 
 }  // namespace epi::render

@@ -1,0 +1,38 @@
+// Highway kernels of the sparse regions' blend (sparse_blend.h), dispatched at run time over every
+// target Highway builds. Each does the float operations of the scalar filter and blend in
+// sparse_blend.cpp, per element and in the same order, with no fused multiply-add, so every target
+// gives their bits (tests/render/sparse_blend_test.cpp). docs/render.md, "Sparse regions".
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace epi::render {
+
+// The row pass filters kSparseRowLanes rows at once, row r of the group in lane r: `lanes` holds,
+// per pixel x, its kSparseBlendChannels values then... laid out [x][channel][lane]; `keep`
+// [x][lane] is 1 where the pixel is no barrier, else 0. The recursive filter (sparse_blend.cpp,
+// the definition) along x replaces `lanes` in place; `forward` is scratch of width x channels x
+// kSparseRowLanes floats.
+inline constexpr int kSparseRowLanes = 8;
+void filter_row_lanes(float* lanes, const float* keep, float* forward, int width, float a);
+
+// The column pass over the strip of columns [x0, x0 + kSparseStrip) (or to the image's right side)
+// of the planes (plane c of pixel i at planes[c * plane + i], rows `width` apart), the keep flag
+// being barrier[i] == 0. Without `image`, the filtered values replace the planes'; with it, they
+// stay in `forward` and the strip of `image` (3 floats per pixel) is blended as sparse_blend does;
+// returns the number of pixels changed. `forward`: scratch of height x channels x kSparseStrip floats.
+inline constexpr int kSparseStrip = 16;
+struct SparseColumnStrip {
+  float* planes;
+  size_t plane;
+  const uint8_t* barrier;
+  int width, height, x0;
+  float a;
+  float* forward;
+  float* image;        // nullptr: write the planes back
+  float dense, span;   // the blend's (SparseBlendSettings: dense, dense - sparse)
+};
+size_t filter_column_strip(const SparseColumnStrip& strip);
+
+}  // namespace epi::render
