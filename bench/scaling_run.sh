@@ -6,8 +6,9 @@
 #   bench/scaling_run.sh OUT_DIR LABEL=BUNDLE.tar.xz [LABEL=BUNDLE.tar.xz ...]
 # Environment (defaults in brackets):
 #   SCALING_RECONSTRUCT   epi_bench filter [1080p and 4K, tiled stream, best target, all threads]
-#   SCALING_FRAME         render_bench filter [BM_FrameThreads: every scene at 1080p, the loop held
-#                         to 1, 2, 4, ... threads up to the cores by a task arena]
+#   SCALING_FRAME         render_bench filter, run once per scene with SCENE replaced by its index
+#                         [BM_FrameThreads: 1080p, the loop held to 1, 2, 4, ... threads up to the
+#                         cores by a task arena]
 #   SCALING_TABLE2        render_bench filter run on 2 cores, the paper's table 2 [every scene, 512²]
 #   SCALING_STAGES        render_stages_bench filter [the sparse blend at 1080p, oracle and kernels,
 #                         1, 2, 4, ... threads]
@@ -18,7 +19,7 @@ out=$1; shift
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 mkdir -p "$out"
 reconstruct=${SCALING_RECONSTRUCT:-'BM_StreamingFloor/(1920|3840)|BM_Reconstruct/(1920/1080|3840/2160)/1/'}
-frame=${SCALING_FRAME:-'BM_FrameThreads/[0-4]/1920/1080/'}
+frame=${SCALING_FRAME:-'BM_FrameThreads/SCENE/1920/1080/'}
 table2=${SCALING_TABLE2:-'BM_Frame/[0-4]/512/512/2/'}
 stages=${SCALING_STAGES:-'BM_SparseBlend/1920/1080/10/'}
 json=(--benchmark_out_format=json)
@@ -38,8 +39,12 @@ for spec in "$@"; do
     "$b/render_stages_bench" --benchmark_filter="$stages" --benchmark_out="$out/${label}_stages.json" "${json[@]}" 2>&1 | grep -E "^BM_" | cut -c1-160
   fi
   if [ "$frame" != none ]; then
-    echo "== $label: frame loop on 1, 2, 4, ... threads"
-    "$b/render_bench" --benchmark_filter="$frame" --benchmark_out="$out/${label}_frame.json" "${json[@]}" 2>&1 | grep -E "^BM_" | cut -c1-160
+    # One run per scene (LABEL_frame_sK.json), so that a run cut off at a time limit keeps the
+    # scenes that finished.
+    for k in 0 1 2 3 4; do
+      echo "== $label: frame loop on 1, 2, 4, ... threads, scene $k ($(date +%T))"
+      "$b/render_bench" --benchmark_filter="${frame//SCENE/$k}" --benchmark_out="$out/${label}_frame_s$k.json" "${json[@]}" 2>&1 | grep -E "^BM_" | cut -c1-160
+    done
   fi
   echo "== $label: reconstruction"
   [ "$reconstruct" = none ] || "$b/epi_bench" --benchmark_filter="$reconstruct" --benchmark_out="$out/${label}_reconstruct.json" "${json[@]}" 2>&1 | grep -E "^BM_"

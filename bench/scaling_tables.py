@@ -13,8 +13,12 @@ measured in one run sit side by side):
                              (how earlier runs held the loop: TBB sizes its arena from the affinity
                              mask, so CORES is the thread count).
 
+  --stages LABEL=FILE        render_stages_bench JSON of BM_SparseBlend (the scalar oracle and the
+                             Highway kernels on 1, 2, 4, ... threads).
+
   --dir DIR                  everything bench/scaling_run.sh wrote there (LABEL_reconstruct.json,
-                             LABEL_frame.json, LABEL_frame_cCORES.json).
+                             LABEL_frame.json or LABEL_frame_sSCENE.json, LABEL_frame_cCORES.json,
+                             LABEL_stages.json).
 
   /usr/bin/python3 bench/scaling_tables.py --dir scaling --chart docs/images/scaling.png
 """
@@ -78,6 +82,21 @@ def frame_rows(label, cores, path):
     return rows
 
 
+def stage_rows(label, path):
+    """(label, size, threads, kernel) -> ms for BM_SparseBlend (kernel 0: oracle, 1: kernels)."""
+    rows = {}
+    for name, b in best(load(path)["benchmarks"]).items():
+        m = re.match(r"BM_SparseBlend/(\d+)/(\d+)/\d+/(\d+)/(\d)$", name)
+        if m:
+            w, h, threads, kernel = map(int, m.groups())
+            rows[(label, (w, h), threads, kernel)] = b["real_time"]
+    return rows
+
+
+def fmt_ms(v):
+    return "" if v is None else f"{v:.1f}"
+
+
 def spec(text, with_cores):
     label, _, path = text.partition("=")
     if not path:
@@ -94,24 +113,31 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--reconstruct", action="append", default=[])
     ap.add_argument("--frame", action="append", default=[])
+    ap.add_argument("--stages", action="append", default=[])
     ap.add_argument("--dir")
     ap.add_argument("--chart")
     args = ap.parse_args()
     if args.dir:
         for path in sorted(glob.glob(os.path.join(args.dir, "*.json"))):
-            m = re.match(r"(.+)_(reconstruct|frame|frame_c(\d+))\.json$", os.path.basename(path))
+            m = re.match(r"(.+)_(reconstruct|stages|frame|frame_s\d|frame_c(\d+))\.json$", os.path.basename(path))
             if m and m.group(2) == "reconstruct":
                 args.reconstruct.append(f"{m.group(1)}={path}")
+            elif m and m.group(2) == "stages":
+                args.stages.append(f"{m.group(1)}={path}")
+            elif m and m.group(2).startswith("frame_s"):
+                args.frame.append(f"{m.group(1)}={path}")
             elif m and m.group(2) == "frame":
                 args.frame.append(f"{m.group(1)}={path}")
             elif m:
                 args.frame.append(f"{m.group(1)}@{m.group(3)}={path}")
-    recon, frames = {}, {}
+    recon, frames, stage_ms = {}, {}, {}
     for s in args.reconstruct:
         recon.update(reconstruct_rows(*spec(s, False)))
     for s in args.frame:
         frames.update(frame_rows(*spec(s, True)))
-    if not recon and not frames:
+    for s in args.stages:
+        stage_ms.update(stage_rows(*spec(s, False)))
+    if not recon and not frames and not stage_ms:
         sys.exit("scaling_tables.py: no BM_Reconstruct or BM_Frame rows in the inputs")
 
     series = []  # (title, label, xs, ms) for the chart
@@ -157,8 +183,18 @@ def main():
             cells = []
             for _, keys in stages + [("loop", "loop_ms")]:
                 a, b = (sum(r.get(k, 0) for k in keys.split("+")) for r in (lo, hi))
-                cells.append(f"{a:.1f} -> {b:.1f} ({a / b:.1f}x)" if b > 0 else f"{a:.1f} -> {b:.1f}")
+                cells.append(f"{a:.1f} -> {b:.1f} ({a / b:.1f}x)" if b > 0 else "" if a == 0 else f"{a:.1f} -> {b:.1f}")  # "": not in that build
             print(f"| {label} | {scene} | {SIZES.get(size, size)} | {cs[0]} -> {cs[-1]} | " + " | ".join(cells) + " |")
+        print()
+
+    if stage_ms:
+        print("The sparse blend (render_stages_bench BM_SparseBlend, 10 % of the pixels sampled), ms and speed-up over the scalar oracle on as many threads:\n")
+        print("| build | size | threads | oracle | kernels | oracle / kernels |")
+        print("|---|---|---|---|---|---|")
+        for label, size, threads in sorted({k[:3] for k in stage_ms}):
+            o, k = stage_ms.get((label, size, threads, 0)), stage_ms.get((label, size, threads, 1))
+            ratio = f"{o / k:.2f}x" if o and k else ""
+            print(f"| {label} | {SIZES.get(size, size)} | {threads} | {fmt_ms(o)} | {fmt_ms(k)} | {ratio} |")
         print()
 
     if args.chart:
