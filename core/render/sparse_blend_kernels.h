@@ -9,11 +9,11 @@
 
 namespace epi::render {
 
-// The row pass filters kSparseRowLanes rows at once, row r of the group in lane r: `lanes` holds,
-// per pixel x, its kSparseBlendChannels values then... laid out [x][channel][lane]; `keep`
-// [x][lane] is 1 where the pixel is no barrier, else 0. The recursive filter (sparse_blend.cpp,
-// the definition) along x replaces `lanes` in place; `forward` is scratch of width x channels x
-// kSparseRowLanes floats.
+// The row pass filters kSparseRowLanes rows at once, row r of the group in lane r: `lanes` holds
+// the kSparseBlendChannels values of each pixel x, channel c of row r at lanes[(x C + c) L + r]
+// (C channels, L lanes); keep[x L + r] is 1 where the pixel is no barrier, else 0. The recursive
+// filter along x (sparse_blend.cpp's definition) replaces `lanes` in place; `forward` is scratch
+// of width x C x L floats.
 inline constexpr int kSparseRowLanes = 8;
 void filter_row_lanes(float* lanes, const float* keep, float* forward, int width, float a);
 
