@@ -134,7 +134,11 @@ class FrameRenderer {
   const FrameStats& stats() const { return stats_; }
   const PointCache& cache() const { return cache_; }
   const std::vector<float>& priority() const { return reconstruction_.priority; }
-  const EpiImage& epi() const { return epi_; }  // this frame's EPI, classified (types, reachability)
+  const EpiImage& epi() const { return epi_; }  // this frame's EPI as filled: the reconstruction's input
+  // The same EPI classified by the reconstruction (reconstruct.h): edge words with their codes and
+  // usable bits, cache words with the type and reach mask; one per pixel.
+  const std::vector<uint16_t>& classified_edge() const { return reconstruction_.edge; }
+  const std::vector<uint32_t>& classified_cache() const { return reconstruction_.cache; }
   const FrameSettings& settings() const { return settings_; }
   // The settings this renderer reconstructs its EPI with (what an EPI snapshot must carry).
   ReconstructSettings reconstruct_settings() const;

@@ -477,7 +477,10 @@ void Session::stage_image(const SessionInput& input, const RgbImage& final_image
 
   if (renderer_) {
     const PointImage& points = renderer_->cache().image();
-    const EpiImage& epi = renderer_->epi();
+    // The classified words (the renderer's EPI is the reconstruction's input: no types or masks).
+    const std::vector<uint16_t>& edge = renderer_->classified_edge();
+    const std::vector<uint32_t>& cache = renderer_->classified_cache();
+    const bool classified = edge.size() == pixels && cache.size() == pixels;
     switch (stage) {
       case StageView::final: break;
       case StageView::points: {
@@ -500,9 +503,10 @@ void Session::stage_image(const SessionInput& input, const RgbImage& final_image
       case StageView::classes:
       case StageView::reachability: {
         const float dim = stage == StageView::reachability ? 0.35f : 1.0f;
-        tbb::parallel_for(size_t(0), pixels, [&](size_t i) {
-          set(out, i, class_color(pixel_type(epi.cache[i]), usable_sample(epi.edge[i])) * dim);
-        });
+        if (classified)
+          tbb::parallel_for(size_t(0), pixels, [&](size_t i) {
+            set(out, i, class_color(pixel_type(cache[i]), usable_sample(edge[i])) * dim);
+          });
         break;
       }
       case StageView::priority: {
@@ -543,20 +547,21 @@ void Session::stage_image(const SessionInput& input, const RgbImage& final_image
     }
     // The hovered pixel's 5x5 (its reachability after classification).
     const glm::ivec2 q = input.probe;
-    if (q.x >= 0 && q.y >= 0 && q.x < w && q.y < h && epi.width == w && epi.height == h) {
+    if (q.x >= 0 && q.y >= 0 && q.x < w && q.y < h && classified) {
       PixelProbe& probe = frame.probe;
       probe.pixel = q;
-      probe.reach = reach_mask(epi.cache[epi.index(q.x, q.y)]);
+      auto index = [&](int x, int y) { return size_t(y) * size_t(w) + size_t(x); };
+      probe.reach = reach_mask(cache[index(q.x, q.y)]);
       for (int dy = -2; dy <= 2; ++dy)
         for (int dx = -2; dx <= 2; ++dx) {
           const int x = q.x + dx, y = q.y + dy;
-          const bool inside = epi.inside(x, y);
-          probe.types[dy + 2][dx + 2] = inside ? pixel_type(epi.cache[epi.index(x, y)]) : -1;
-          probe.samples[dy + 2][dx + 2] = inside && usable_sample(epi.edge[epi.index(x, y)]);
+          const bool inside = x >= 0 && y >= 0 && x < w && y < h;
+          probe.types[dy + 2][dx + 2] = inside ? pixel_type(cache[index(x, y)]) : -1;
+          probe.samples[dy + 2][dx + 2] = inside && usable_sample(edge[index(x, y)]);
           if (stage != StageView::reachability || !inside) continue;
           const bool centre = dx == 0 && dy == 0;
           const bool reached = !centre && (probe.reach >> reach_bit(dx, dy)) & 1u;
-          set(out, epi.index(x, y), centre ? glm::vec3(0.2f, 0.4f, 1.0f) : reached ? glm::vec3(0.2f, 1.0f, 0.3f) : glm::vec3(1.0f, 0.15f, 0.1f));
+          set(out, index(x, y), centre ? glm::vec3(0.2f, 0.4f, 1.0f) : reached ? glm::vec3(0.2f, 1.0f, 0.3f) : glm::vec3(1.0f, 0.15f, 0.1f));
         }
     }
   }

@@ -134,6 +134,19 @@ TEST(Session, EveryStageViewIsNonEmptyAndDistinct) {
       EXPECT_EQ(f.probe.pixel, glm::ivec2(32, 24));
       EXPECT_NE(f.probe.types[2][2], -1);
     }
+    // The classes view shows the reconstruction's classification: the box's edges make simple
+    // pixels (green), and sampled pixels show their usable samples (not the unsampled dark grey
+    // of an unclassified EPI, which every pixel showed from 2026-11-24 to 11-26).
+    if (StageView(v) == StageView::classes) {
+      size_t simple = 0, sampled = 0;
+      for (size_t i = 0; i < f.image.pixels.size(); i += 3) {
+        const float r = f.image.pixels[i], g = f.image.pixels[i + 1];
+        simple += g > 2.0f * r;
+        sampled += r > 0.4f;
+      }
+      EXPECT_GT(simple, 0u);
+      EXPECT_GT(sampled, f.image.pixels.size() / 3 / 4);
+    }
     views.push_back(f.image);
   }
 }
