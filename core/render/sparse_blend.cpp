@@ -79,12 +79,12 @@ void filter_rows(float* planes, const float* keep, size_t n, int w, int y0, int 
 }
 
 // The filter's inputs at pixel i: linear r, g, b and a weight of 1 where the EPI holds a sample
-// and no barrier (else zeros), and a mass of 1 where no barrier.
-void pixel_values(const EpiImage& epi, std::span<const uint8_t> barrier, size_t i, float v[C]) {
-  const bool sample = has_sample(epi.edge[i]) && !barrier[i];
-  float rgb[3] = {0.0f, 0.0f, 0.0f};
-  if (sample) decode_color(epi.color[i], rgb);
-  v[0] = rgb[0], v[1] = rgb[1], v[2] = rgb[2];
+// and no barrier (else zeros), and a mass of 1 where no barrier. `lut`: epi_color8_to_linear(),
+// whose entry 0 is 0 (no sample: black).
+inline void pixel_values(const EpiImage& epi, std::span<const uint8_t> barrier, const float* lut, size_t i, float v[C]) {
+  const bool sample = !barrier[i] && has_sample(epi.edge[i]);
+  const uint32_t colour = sample ? epi.color[i] : 0u;
+  v[0] = lut[colour & 255], v[1] = lut[(colour >> 8) & 255], v[2] = lut[(colour >> 16) & 255];
   v[3] = sample ? 1.0f : 0.0f;
   v[4] = barrier[i] ? 0.0f : 1.0f;
 }
@@ -117,10 +117,11 @@ void filter_samples(const EpiImage& epi, std::span<const uint8_t> barrier, const
   // Planes r, g, b, weight, mass, then the keep mask (1 where no barrier).
   sums.resize((C + 1) * n);
   float* keep = sums.data() + C * n;
+  const float* lut = epi_color8_to_linear().data();
   tbb::parallel_for(0, h, [&](int y) {
     for (size_t i = size_t(y) * size_t(w), end = i + size_t(w); i != end; ++i) {
       float v[C];
-      pixel_values(epi, barrier, i, v);
+      pixel_values(epi, barrier, lut, i, v);
       for (size_t c = 0; c < C; ++c) sums[c * n + i] = v[c];
       keep[i] = barrier[i] ? 0.0f : 1.0f;
     }
@@ -215,15 +216,10 @@ size_t sparse_blend(RgbImage& image, const EpiImage& epi, std::span<const uint8_
         for (int r = 0; r < rows; ++r) {
           const size_t i = first + size_t(r) * size_t(w) + size_t(x);
           kept[r] = barrier[i] ? 0.0f : 1.0f;
-          if (k == 0) {  // pixel_values, with the table at hand (lut[0] is 0: no sample, black)
-            const bool sample = !barrier[i] && has_sample(epi.edge[i]);
-            const uint32_t colour = sample ? epi.color[i] : 0u;
-            v[r] = lut[colour & 255], v[L + r] = lut[(colour >> 8) & 255], v[2 * L + r] = lut[(colour >> 16) & 255];
-            v[3 * L + r] = sample ? 1.0f : 0.0f;
-            v[4 * L + r] = kept[r];
-          } else {
-            for (size_t c = 0; c < C; ++c) v[c * L + size_t(r)] = planes[c * n + i];
-          }
+          float value[C];
+          if (k == 0) pixel_values(epi, barrier, lut, i, value);
+          else for (size_t c = 0; c < C; ++c) value[c] = planes[c * n + i];
+          for (size_t c = 0; c < C; ++c) v[c * L + size_t(r)] = value[c];
         }
       }
       filter_row_lanes(lanes.data(), keep.data(), forward.data(), w, a);
