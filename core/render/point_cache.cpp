@@ -26,7 +26,10 @@ using namespace detail;
 constexpr float kMinLobeWidth = 0.02f;  // radians: narrower lobes age as if this wide
 // The fast path's fixed work units: blocks of points, square tiles and bands of rows of the image.
 constexpr size_t kPointBlock = 16384;
-constexpr int kTileSize = 64, kBandRows = 8;
+// The projection's tiles (a z-buffer of 4096 pixels each, in L1/L2): wide and short, so that the
+// unpacking writes long runs of each image plane (256 x 16: the projection 1.07-1.11x faster
+// than 64 x 64 at 1080p; docs/performance.md, "Point processing").
+constexpr int kTileWidth = 256, kTileHeight = 16, kBandRows = 8;
 constexpr uint32_t kNoTile = ~uint32_t(0);  // a point not drawn this frame
 constexpr uint16_t kShowsNothing = 0x8000;     // age bin flag: shows_nothing (fill_epi leaves the pixel empty)
 
@@ -176,7 +179,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   // a point whose surface now faces away from the eye is not drawn (back_facing).
   eye_local_.resize(object_to_world.size());
   for (size_t o = 0; o < object_to_world.size(); ++o) eye_local_[o] = glm::vec3(glm::inverse(object_to_world[o]) * glm::vec4(frame.eye(), 1.0f));
-  const int tiles_x = (w + kTileSize - 1) / kTileSize, tiles_y = (h + kTileSize - 1) / kTileSize;
+  const int tiles_x = (w + kTileWidth - 1) / kTileWidth, tiles_y = (h + kTileHeight - 1) / kTileHeight;
   const size_t tiles = size_t(tiles_x) * size_t(tiles_y);
 
   // 1. Aging and projection (blocks of points in parallel): each point's record (z-buffer key,
@@ -248,10 +251,10 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
         const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
         p.image_id = int32_t(uint32_t(py) * uint32_t(w) + uint32_t(px));
-        const uint32_t tile = uint32_t(py / kTileSize) * uint32_t(tiles_x) + uint32_t(px / kTileSize);
+        const uint32_t tile = uint32_t(py / kTileHeight) * uint32_t(tiles_x) + uint32_t(px / kTileWidth);
         projected_[i] = {zkey(proj.depth, rx + 4 * ry, uint32_t(i)), epi_color_word(i),
                          uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p, p.view_share) ? kShowsNothing : 0)),
-                         uint16_t(py % kTileSize * kTileSize + px % kTileSize)};
+                         uint16_t(py % kTileHeight * kTileWidth + px % kTileWidth)};
         point_tile_[i] = tile;
         ++block.tile_count[tile];
         ++projected;
@@ -301,48 +304,36 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   static constexpr ProjectedPoint kNoRecord{kEmptyKey, 0, 0, 0};  // an empty pixel's winner when nothing projected
   pixel_word_.resize(image_.point.size()), pixel_age_bin_.resize(image_.point.size());
   tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
-    const int x0 = int(t % size_t(tiles_x)) * kTileSize, y0 = int(t / size_t(tiles_x)) * kTileSize;
-    const int x1 = std::min(w, x0 + kTileSize), y1 = std::min(h, y0 + kTileSize);
-    std::array<uint64_t, kTileSize * kTileSize> zbuffer;
-    std::array<uint32_t, kTileSize * kTileSize> winner;
+    const int x0 = int(t % size_t(tiles_x)) * kTileWidth, y0 = int(t / size_t(tiles_x)) * kTileHeight;
+    const int x1 = std::min(w, x0 + kTileWidth), y1 = std::min(h, y0 + kTileHeight);
+    std::array<uint64_t, kTileWidth * kTileHeight> zbuffer;
+    std::array<uint32_t, kTileWidth * kTileHeight> winner;
     zbuffer.fill(kEmptyKey);
     winner.fill(0);
-    for (uint32_t k = tile_begin_[t]; k != tile_begin_[t + 1]; ++k) {  // selects, not branches
+    // Selects by masks, not branches (the compiler made a branch of `nearer ? k : winner`,
+    // mispredicted: a record is nearer about half the time).
+    for (uint32_t k = tile_begin_[t]; k != tile_begin_[t + 1]; ++k) {
       const ProjectedPoint& r = binned_[k];
-      const bool nearer = r.key < zbuffer[r.tile_pixel];
-      zbuffer[r.tile_pixel] = nearer ? r.key : zbuffer[r.tile_pixel];
-      winner[r.tile_pixel] = nearer ? k : winner[r.tile_pixel];
+      const uint64_t current = zbuffer[r.tile_pixel];
+      const uint32_t take = uint32_t(0) - uint32_t(r.key < current);  // all ones when nearer
+      zbuffer[r.tile_pixel] = std::min(r.key, current);
+      winner[r.tile_pixel] = (k & take) | (winner[r.tile_pixel] & ~take);
     }
-    // Unpacked without branches (selects by masks: the compiler made a branch of the selects,
-    // mispredicted where drawn and empty pixels alternate), through local pointers (the region's
-    // byte stores would otherwise reload every member); an empty pixel keeps its region, and
+    // Unpacked a vector of pixels at a time (unpack_winners); an empty pixel keeps its region, and
     // its colour word is not read.
     const ProjectedPoint* const records = binned_.empty() ? &kNoRecord : binned_.data();
-    int32_t *const point = image_.point.data(), *const winners = winners_.data();
-    float* const depth = image_.depth.data();
-    uint32_t* const words = pixel_word_.data();
-    uint8_t* const region = image_.region.data();
-    uint16_t* const age_bins = pixel_age_bin_.data();
-    constexpr uint32_t kInfinity = 0x7f800000u;  // the depth of an empty pixel
-    for (int y = y0; y < y1; ++y)
-      for (int x = x0; x < x1; ++x) {
-        const size_t i = image_.index(x, y), local = size_t(y - y0) * kTileSize + size_t(x - x0);
-        const uint64_t key = zbuffer[local];
-        const uint32_t empty = uint32_t(0) - uint32_t(key == kEmptyKey);  // all ones when empty
-        const ProjectedPoint& won = records[winner[local]];
-        winners[i] = point[i] = int32_t((uint32_t(key) & kIndexMask) | empty);
-        depth[i] = std::bit_cast<float>((uint32_t(key >> 32) & ~empty) | (kInfinity & empty));
-        region[i] = uint8_t((((uint32_t(key) >> 28) & 15) & ~empty) | (region[i] & empty));
-        words[i] = won.word, age_bins[i] = won.age_bin;
-      }
+    const size_t first = image_.index(x0, y0);
+    const WinnerPlanes planes{image_.point.data() + first, winners_.data() + first,     image_.depth.data() + first,
+                              image_.region.data() + first, pixel_word_.data() + first, pixel_age_bin_.data() + first};
+    unpack_winners(zbuffer.data(), winner.data(), kTileWidth, records, size_t(x1 - x0), size_t(y1 - y0), planes, size_t(w));
     if (!depth_cull) count_drawn(t, x0, y0, x1, y1);
   });
   size_t culled = 0;
   if (depth_cull) {
     culled = this->depth_cull({});
     tbb::parallel_for(size_t(0), tiles, [&](size_t t) {
-      const int x0 = int(t % size_t(tiles_x)) * kTileSize, y0 = int(t / size_t(tiles_x)) * kTileSize;
-      count_drawn(t, x0, y0, std::min(w, x0 + kTileSize), std::min(h, y0 + kTileSize));
+      const int x0 = int(t % size_t(tiles_x)) * kTileWidth, y0 = int(t / size_t(tiles_x)) * kTileHeight;
+      count_drawn(t, x0, y0, std::min(w, x0 + kTileWidth), std::min(h, y0 + kTileHeight));
     });
   }
 

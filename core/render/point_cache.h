@@ -16,6 +16,7 @@
 
 #include "epi/epi_pixel.h"
 #include "render/edge_crossings.h"
+#include "render/point_projection.h"
 #include "scene/scene.h"
 #include "shade/shader.h"
 #include "shade/view.h"
@@ -337,13 +338,8 @@ class PointCache {
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull
   std::vector<PointBlock> point_blocks_;
   std::vector<TileBlock> tile_blocks_;
-  // Per point, this frame: its z-buffer key, EPI colour word, age bin and pixel within its tile
-  // (16 bytes, one record: the binning scatters one stream per tile), and its tile (none: ~0).
-  struct ProjectedPoint {
-    uint64_t key;
-    uint32_t word;
-    uint16_t age_bin, tile_pixel;
-  };
+  // Per point, this frame: its record (point_projection.h: one record, so that the binning scatters
+  // one stream per tile), and its tile (none: ~0).
   std::vector<ProjectedPoint> projected_;
   std::vector<uint32_t> point_tile_;
   // The same, binned by tile: tile t's are binned_[tile_begin_[t], tile_begin_[t + 1]).

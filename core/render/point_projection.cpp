@@ -1,5 +1,8 @@
-// project_batch for every Highway target (foreach_target.h compiles this file once per target).
+// project_batch and unpack_winners for every Highway target (foreach_target.h compiles this file
+// once per target).
 #include "render/point_projection.h"
+
+#include <cstddef>
 
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/point_projection.cpp"
@@ -103,6 +106,49 @@ void ProjectBatchFrame(const ViewFrame& frame, ProjectionBatch& batch, size_t n)
   ProjectBatch(c, batch, n);
 }
 
+// unpack_winner, a vector of pixels at a time: the keys' low and high words apart (a key is
+// two 32-bit words, low first), the winners' words and age bins gathered from their records.
+HWY_INLINE void UnpackWinnersRow(const uint64_t* keys, const uint32_t* winner, const ProjectedPoint* records, size_t n,
+                                 const WinnerPlanes& out) {
+  const hn::ScalableTag<uint32_t> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  const hn::Rebind<uint8_t, decltype(d)> d8;
+  const hn::Rebind<uint16_t, decltype(di)> d16;
+  const size_t lanes = hn::Lanes(d);
+  const auto all_ones = hn::Set(d, ~uint32_t(0)), index_mask = hn::Set(d, detail::kIndexMask);
+  const auto infinity = hn::Set(d, 0x7f800000u), region_mask = hn::Set(d, 15u), low16 = hn::Set(d, 0xffffu);
+  const uint32_t* words = reinterpret_cast<const uint32_t*>(records);  // 4 per record: key low, key high, word, age bin | tile pixel
+  static_assert(offsetof(ProjectedPoint, word) == 8 && offsetof(ProjectedPoint, age_bin) == 12);
+  size_t i = 0;
+  for (; i + lanes <= n; i += lanes) {
+    hn::Vec<decltype(d)> low, high;
+    hn::LoadInterleaved2(d, reinterpret_cast<const uint32_t*>(keys + i), low, high);
+    const auto empty = hn::And(hn::Eq(low, all_ones), hn::Eq(high, all_ones));
+    const auto point = hn::IfThenElse(empty, all_ones, hn::And(low, index_mask));
+    hn::StoreU(hn::BitCast(di, point), di, out.point + i);
+    hn::StoreU(hn::BitCast(di, point), di, out.winners + i);
+    hn::StoreU(hn::BitCast(hn::RebindToFloat<decltype(d)>(), hn::IfThenElse(empty, infinity, high)),
+               hn::RebindToFloat<decltype(d)>(), out.depth + i);
+    const auto region = hn::IfThenElse(empty, hn::PromoteTo(d, hn::LoadU(d8, out.region + i)),
+                                       hn::And(hn::ShiftRight<28>(low), region_mask));
+    hn::StoreU(hn::DemoteTo(d8, hn::BitCast(di, region)), d8, out.region + i);
+    const auto at = hn::BitCast(di, hn::ShiftLeft<2>(hn::LoadU(d, winner + i)));
+    hn::StoreU(hn::GatherIndex(d, words + 2, at), d, out.word + i);
+    const auto age_bin = hn::And(hn::GatherIndex(d, words + 3, at), low16);
+    hn::StoreU(hn::DemoteTo(d16, hn::BitCast(di, age_bin)), d16, out.age_bin + i);
+  }
+  for (; i < n; ++i) unpack_winner(keys[i], records[winner[i]], out, i);
+}
+
+void UnpackWinners(const uint64_t* keys, const uint32_t* winner, size_t pitch, const ProjectedPoint* records,
+                   size_t columns, size_t rows, const WinnerPlanes& out, size_t out_pitch) {
+  for (size_t r = 0; r < rows; ++r) {
+    const size_t o = r * out_pitch;
+    UnpackWinnersRow(keys + r * pitch, winner + r * pitch, records, columns,
+                     {out.point + o, out.winners + o, out.depth + o, out.region + o, out.word + o, out.age_bin + o});
+  }
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace epi::render
 HWY_AFTER_NAMESPACE();
@@ -111,9 +157,15 @@ HWY_AFTER_NAMESPACE();
 namespace epi::render {
 
 HWY_EXPORT(ProjectBatchFrame);
+HWY_EXPORT(UnpackWinners);
 
 void project_batch(const ViewFrame& frame, ProjectionBatch& batch, size_t n) {
   HWY_DYNAMIC_DISPATCH(ProjectBatchFrame)(frame, batch, n);
+}
+
+void unpack_winners(const uint64_t* keys, const uint32_t* winner, size_t pitch, const ProjectedPoint* records,
+                    size_t columns, size_t rows, const WinnerPlanes& out, size_t out_pitch) {
+  HWY_DYNAMIC_DISPATCH(UnpackWinners)(keys, winner, pitch, records, columns, rows, out, out_pitch);
 }
 
 }  // namespace epi::render

@@ -1,13 +1,19 @@
-// The point cache's projection kernel (issue 11): world positions to depth and pixel position,
-// the view staleness of view-dependent points and whether a point's surface faces away from the
-// eye, for a batch of points at once with Highway
-// (dynamic dispatch, every target Highway builds). The same operations in the same order as
-// ViewFrame::project, PointCache::view_staleness and detail::faces_away, without fused multiply-add
-// (-ffp-contract=off): bit-identical results (tests/render/point_cache_fast_test.cpp).
+// The point cache's projection kernels (issue 11), with Highway (dynamic dispatch, every target
+// Highway builds):
+// - project_batch: world positions to depth and pixel position, the view staleness of
+//   view-dependent points and whether a point's surface faces away from the eye, for a batch of
+//   points at once. The same operations in the same order as ViewFrame::project,
+//   PointCache::view_staleness and detail::faces_away, without fused multiply-add
+//   (-ffp-contract=off): bit-identical results (tests/render/point_projection_test.cpp).
+// - unpack_winners: a tile's z-buffer winners into the image's planes, as unpack_winner does
+//   one pixel (the same test file).
 #pragma once
 
+#include <bit>
 #include <cstddef>
 #include <cstdint>
+
+#include "render/point_cache_detail.h"
 
 #include "shade/view.h"
 
@@ -35,5 +41,41 @@ struct ProjectionBatch {
 // Fills the outputs of the first n entries of the batch (n <= kSize); the inputs must be set up
 // to n rounded up to 16 (a vector's lanes), or kSize.
 void project_batch(const ViewFrame& frame, ProjectionBatch& batch, size_t n);
+
+// A projected point's record for the z-buffer (16 bytes, binned by tile): its z-buffer key
+// (detail::zkey), EPI colour word, age bin and pixel within its tile.
+struct ProjectedPoint {
+  uint64_t key;
+  uint32_t word;
+  uint16_t age_bin, tile_pixel;
+};
+static_assert(sizeof(ProjectedPoint) == 16);
+
+// The image planes a z-buffer's winners are unpacked into, at one pixel or the first of a run.
+struct WinnerPlanes {
+  int32_t* point;     // the winner's slot (the key's index), -1: empty
+  int32_t* winners;   // the same (kept apart from the depth cull's removals)
+  float* depth;       // the key's depth, +inf: empty
+  uint8_t* region;    // the key's sub-pixel region; an empty pixel keeps its own
+  uint32_t* word;     // the winning record's EPI colour word
+  uint16_t* age_bin;  // ... and age bin
+};
+
+// One pixel: its z-buffer key (detail::kEmptyKey: nothing landed) and the record that won it
+// (any record for an empty pixel: its word and age bin are not read).
+inline void unpack_winner(uint64_t key, const ProjectedPoint& won, const WinnerPlanes& out, size_t i) {
+  const uint32_t empty = uint32_t(0) - uint32_t(key == detail::kEmptyKey);  // all ones when empty
+  constexpr uint32_t kInfinity = 0x7f800000u;
+  out.winners[i] = out.point[i] = int32_t((uint32_t(key) & detail::kIndexMask) | empty);
+  out.depth[i] = std::bit_cast<float>((uint32_t(key >> 32) & ~empty) | (kInfinity & empty));
+  out.region[i] = uint8_t((((uint32_t(key) >> 28) & 15) & ~empty) | (out.region[i] & empty));
+  out.word[i] = won.word, out.age_bin[i] = won.age_bin;
+}
+
+// unpack_winner over a block of `rows` x `columns` pixels: at row r, column k, the key
+// keys[r pitch + k] and the record records[winner[r pitch + k]] (every winner an index into
+// records), into out's planes at r out_pitch + k.
+void unpack_winners(const uint64_t* keys, const uint32_t* winner, size_t pitch, const ProjectedPoint* records,
+                    size_t columns, size_t rows, const WinnerPlanes& out, size_t out_pitch);
 
 }  // namespace epi::render

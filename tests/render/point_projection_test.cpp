@@ -1,8 +1,8 @@
-// The point cache's projection kernel (core/render/point_projection.h) on every Highway target
-// compiled and supported here, against the scalar code it replaces: ViewFrame::project's depth
+// The point cache's projection kernels (core/render/point_projection.h) on every Highway target
+// compiled and supported here, against the scalar code they replace: ViewFrame::project's depth
 // and pixel bit for bit, the staleness, where the kernel settles it, equal to the scalar formula
-// (detail::staleness_steps of the cosine PointCache::view_staleness computes), and the back-face
-// test equal to detail::faces_away.
+// (detail::staleness_steps of the cosine PointCache::view_staleness computes), the back-face
+// test equal to detail::faces_away; and the z-buffer's unpacking equal to unpack_winner's.
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -90,6 +90,65 @@ TEST(PointProjection, EveryTargetGivesTheScalarBits) {
     EXPECT_GT(settled, size_t(8000)) << hwy::TargetName(target);  // of 40 x ~250: most are settled
     EXPECT_GT(viewed, size_t(500)) << hwy::TargetName(target);
     EXPECT_GT(std::min(facing[0], facing[1]), size_t(3000)) << hwy::TargetName(target);  // both verdicts
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+// Random tiles (keys empty or not, any depth bits, region and index; winners anywhere in the
+// records; the image's old regions random) of every width from 0 to 64 and odd row counts,
+// written into a wider image: unpack_winners' planes equal unpack_winner's, pixel for pixel, and
+// nothing outside the block is touched.
+TEST(PointProjection, EveryTargetUnpacksTheWinnersAsTheScalarCode) {
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  constexpr size_t kPitch = 64, kImageWidth = 80, kRows = 7;
+  struct Image {
+    std::vector<int32_t> point, winners;
+    std::vector<float> depth;
+    std::vector<uint8_t> region;
+    std::vector<uint32_t> word;
+    std::vector<uint16_t> age_bin;
+    explicit Image(std::mt19937& rng) {
+      const size_t n = kImageWidth * (kRows + 2);
+      for (size_t i = 0; i < n; ++i) {
+        point.push_back(int32_t(rng())), winners.push_back(int32_t(rng())), depth.push_back(float(rng() % 1000));
+        region.push_back(uint8_t(rng())), word.push_back(uint32_t(rng())), age_bin.push_back(uint16_t(rng()));
+      }
+    }
+    WinnerPlanes planes(size_t at) {
+      return {point.data() + at, winners.data() + at, depth.data() + at, region.data() + at, word.data() + at, age_bin.data() + at};
+    }
+    bool operator==(const Image& o) const {
+      return point == o.point && winners == o.winners && region == o.region && word == o.word && age_bin == o.age_bin &&
+             std::equal(depth.begin(), depth.end(), o.depth.begin(), [](float a, float b) { return same_bits(a, b); });
+    }
+  };
+  for (const int64_t target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    std::mt19937 rng(9);
+    std::vector<ProjectedPoint> records(97);
+    for (ProjectedPoint& r : records) r = {uint64_t(rng()) << 32 | rng(), uint32_t(rng()), uint16_t(rng()), uint16_t(rng())};
+    size_t empty = 0, drawn = 0;
+    for (size_t columns = 0; columns <= kPitch && !HasFailure(); ++columns) {
+      std::vector<uint64_t> keys(kPitch * kRows);
+      std::vector<uint32_t> winner(kPitch * kRows);
+      for (size_t k = 0; k < keys.size(); ++k) {
+        const bool none = rng() % 3 == 0;
+        keys[k] = none ? detail::kEmptyKey : uint64_t(rng()) << 32 | rng();
+        if (k % 13 == 0) keys[k] = uint64_t(0x7f800000u) << 32 | 0xffffffffu;  // low word all ones, not empty
+        winner[k] = uint32_t(rng() % records.size());
+        if (k % kPitch < columns) (none ? empty : drawn) += 1;
+      }
+      Image image(rng);
+      Image expected = image;
+      const size_t at = kImageWidth + 3;  // row 1, column 3
+      for (size_t r = 0; r < kRows; ++r)
+        for (size_t k = 0; k < columns; ++k)
+          unpack_winner(keys[r * kPitch + k], records[winner[r * kPitch + k]], expected.planes(at + r * kImageWidth), k);
+      unpack_winners(keys.data(), winner.data(), kPitch, records.data(), columns, kRows, image.planes(at), kImageWidth);
+      EXPECT_TRUE(image == expected) << hwy::TargetName(target) << ", " << columns << " columns";
+    }
+    EXPECT_GT(std::min(empty, drawn), size_t(1000)) << hwy::TargetName(target);
   }
   hwy::SetSupportedTargetsForTest(0);
 }
