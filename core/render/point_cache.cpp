@@ -9,6 +9,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
@@ -181,6 +182,15 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   for (size_t o = 0; o < object_to_world.size(); ++o) eye_local_[o] = glm::vec3(glm::inverse(object_to_world[o]) * glm::vec4(frame.eye(), 1.0f));
   const int tiles_x = (w + kTileWidth - 1) / kTileWidth, tiles_y = (h + kTileHeight - 1) / kTileHeight;
   const size_t tiles = size_t(tiles_x) * size_t(tiles_y);
+  // The batches' inputs are gathered from the cloud's words (gather_batch; the layout it assumes:)
+  static_assert(sizeof(CachePoint) == 4 * CloudLayout::kWords && offsetof(CachePoint, local) == 4 * CloudLayout::kLocal &&
+                offsetof(CachePoint, object) == 4 * CloudLayout::kObject && offsetof(CachePoint, normal) == 4 * CloudLayout::kNormal &&
+                offsetof(CachePoint, view) == 4 * CloudLayout::kView && offsetof(CachePoint, lobe_width) == 4 * CloudLayout::kLobeWidth);
+  static_assert(sizeof(glm::mat4) == 16 * sizeof(float) && sizeof(glm::vec3) == 3 * sizeof(float));
+  const uint32_t* const cloud = reinterpret_cast<const uint32_t*>(points_.data());
+  const BatchPlacement placement{object_to_world.empty() ? nullptr : &object_to_world[0][0][0],
+                                 eye_local_.empty() ? nullptr : &eye_local_[0][0], uint32_t(object_to_world.size()),
+                                 frame.eye(), background_depth_, kMinLobeWidth};
 
   // 1. Aging and projection (blocks of points in parallel): each point's record (z-buffer key,
   // EPI colour word, age bin, pixel within its tile) and tile (kNoTile: not drawn), counted per tile.
@@ -193,10 +203,11 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     size_t projected = 0, expired = 0, back_facing_points = 0;
     block.free.clear();
     block.tile_count.assign(tiles, 0);
-    // In batches: the valid points' slots gathered, their ages and world positions (scalar), then
-    // the projections, the staleness and the back-face test (project_batch, vectors), then the
-    // rest (scalar), then the free slots listed. Valid and free slots alternate at random: the
-    // gathering and the listing are branch-free, and the passes between see valid points only.
+    // In batches: the valid points' slots listed, their world positions and the rest of the
+    // projection's inputs gathered (gather_batch, vectors), the projections, the staleness and the
+    // back-face test (project_batch, vectors), then the rest, ages first (scalar), then the free
+    // slots listed. Valid and free slots alternate at random: the listings are branch-free, and
+    // the passes between see valid points only.
     ProjectionBatch batch;
     std::array<uint32_t, ProjectionBatch::kSize> slots;
     for (size_t first = b * kPointBlock, block_end = std::min(n, first + kPointBlock); first < block_end;
@@ -210,24 +221,14 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         valid += size_t(points_[first + k].valid);
         point_tile_[first + k] = kNoTile;
       }
-      for (size_t k = 0; k < ProjectionBatch::kSize; ++k) {
-        glm::vec3 world(0.0f), to_eye(0.0f);
-        batch.view[k] = 0, batch.lobe_width[k] = 1.0f, batch.normal[k] = 0;
-        if (k < valid) {
-          CachePoint& p = points_[slots[k]];
-          p.age = uint16_t(std::min(p.age + 1, 0xffff));
-          world = world_position(p, frame, object_to_world);
-          batch.view[k] = p.view, batch.lobe_width[k] = std::max(p.lobe_width, kMinLobeWidth);
-          if (p.object != kNone && p.object < eye_local_.size())  // back_facing's test
-            batch.normal[k] = p.normal, to_eye = eye_local_[p.object] - p.local;
-        }
-        batch.x[k] = world.x, batch.y[k] = world.y, batch.z[k] = world.z;
-        batch.eye_x[k] = to_eye.x, batch.eye_y[k] = to_eye.y, batch.eye_z[k] = to_eye.z;
-      }
+      // The lanes past the last valid point, to the widest vector's 16, project it again (unused).
+      for (size_t k = valid; k < std::min(ProjectionBatch::kSize, valid + 16) && valid > 0; ++k) slots[k] = slots[valid - 1];
+      gather_batch(cloud, uint32_t(first), slots.data(), valid, placement, batch);
       project_batch(frame, batch, valid);
       for (size_t k = 0; k < valid; ++k) {
         const size_t i = slots[k];
         CachePoint& p = points_[i];
+        p.age = uint16_t(std::min(p.age + 1, 0xffff));
         const glm::vec3 world(batch.x[k], batch.y[k], batch.z[k]);
         p.staleness = !view_dependent(p, p.view_share) ? uint8_t(0)
                       : batch.staleness[k] >= 0                ? uint8_t(batch.staleness[k])

@@ -106,6 +106,69 @@ void ProjectBatchFrame(const ViewFrame& frame, ProjectionBatch& batch, size_t n)
   ProjectBatch(c, batch, n);
 }
 
+// gather_input, a vector of points at a time: the points' words gathered; the transform
+// broadcast when every lane's point has the same object (most batches), else gathered per lane.
+void GatherBatch(const uint32_t* cloud, uint32_t first, const uint32_t* slots, size_t n, const BatchPlacement& at,
+                 ProjectionBatch& b) {
+  const hn::ScalableTag<float> d;
+  const hn::RebindToUnsigned<decltype(d)> du;
+  const hn::RebindToSigned<decltype(d)> di;
+  cloud += size_t(first) * CloudLayout::kWords;  // the indices below: from the first slot (32 bits)
+  const float* cloud_floats = reinterpret_cast<const float*>(cloud);
+  const auto objects = hn::Set(du, at.objects);
+  const auto depth = hn::Set(d, at.background_depth), min_width = hn::Set(d, at.min_lobe_width);
+  const auto one = hn::Set(d, 1.0f);
+  for (size_t i = 0; i < n; i += hn::Lanes(d)) {
+    const auto base = hn::Mul(hn::Sub(hn::LoadU(du, slots + i), hn::Set(du, first)), hn::Set(du, uint32_t(CloudLayout::kWords)));
+    const auto word = [&](size_t offset) { return hn::BitCast(di, hn::Add(base, hn::Set(du, uint32_t(offset)))); };
+    const auto lx = hn::GatherIndex(d, cloud_floats, word(CloudLayout::kLocal));
+    const auto ly = hn::GatherIndex(d, cloud_floats, word(CloudLayout::kLocal + 1));
+    const auto lz = hn::GatherIndex(d, cloud_floats, word(CloudLayout::kLocal + 2));
+    const auto object = hn::GatherIndex(du, cloud, word(CloudLayout::kObject));
+    const auto placed = hn::Lt(object, objects);  // else the background
+    const auto placed_f = hn::RebindMask(d, placed);
+    // glm's mat4 x vec4, w = 1: (m0 x + m1 y) + (m2 z + m3 1), per row.
+    hn::Vec<decltype(d)> world[3], eye[3];
+    const uint32_t first = hn::GetLane(object);
+    if (hn::AllTrue(du, hn::Eq(object, hn::Set(du, first))) && first < at.objects) {
+      const float* m = at.object_to_world + 16 * size_t(first);
+      const float* e = at.eye_local + 3 * size_t(first);
+      for (int r = 0; r < 3; ++r) {
+        world[r] = hn::Add(hn::Add(hn::Mul(hn::Set(d, m[r]), lx), hn::Mul(hn::Set(d, m[4 + r]), ly)),
+                           hn::Add(hn::Mul(hn::Set(d, m[8 + r]), lz), hn::Mul(hn::Set(d, m[12 + r]), one)));
+        eye[r] = hn::Set(d, e[r]);
+      }
+    } else {
+      const auto safe = hn::IfThenElseZero(placed, object);  // the background's lanes read object 0's (unused)
+      const auto matrix = hn::BitCast(di, hn::Mul(safe, hn::Set(du, 16u)));
+      const auto eye_at = hn::BitCast(di, hn::Mul(safe, hn::Set(du, 3u)));
+      const float* m = at.objects > 0 ? at.object_to_world : nullptr;
+      for (int r = 0; r < 3; ++r) {
+        if (!m) {
+          world[r] = eye[r] = hn::Zero(d);
+          continue;
+        }
+        const auto column = [&](int c) { return hn::GatherIndex(d, m, hn::Add(matrix, hn::Set(di, 4 * c + r))); };
+        world[r] = hn::Add(hn::Add(hn::Mul(column(0), lx), hn::Mul(column(1), ly)),
+                           hn::Add(hn::Mul(column(2), lz), hn::Mul(column(3), one)));
+        eye[r] = hn::GatherIndex(d, at.eye_local, hn::Add(eye_at, hn::Set(di, r)));
+      }
+    }
+    const hn::Vec<decltype(d)> local[3] = {lx, ly, lz};
+    float* const out_world[3] = {b.x + i, b.y + i, b.z + i};
+    float* const out_eye[3] = {b.eye_x + i, b.eye_y + i, b.eye_z + i};
+    for (int r = 0; r < 3; ++r) {
+      const auto background = hn::Add(hn::Set(d, at.eye[r]), hn::Mul(local[r], depth));
+      hn::Store(hn::IfThenElse(placed_f, world[r], background), d, out_world[r]);
+      hn::Store(hn::IfThenElseZero(placed_f, hn::Sub(eye[r], local[r])), d, out_eye[r]);
+    }
+    hn::Store(hn::IfThenElseZero(placed, hn::GatherIndex(du, cloud, word(CloudLayout::kNormal))), du, b.normal + i);
+    hn::Store(hn::GatherIndex(du, cloud, word(CloudLayout::kView)), du, b.view + i);
+    const auto width = hn::GatherIndex(d, cloud_floats, word(CloudLayout::kLobeWidth));
+    hn::Store(hn::IfThenElse(hn::Lt(width, min_width), min_width, width), d, b.lobe_width + i);  // std::max's choice
+  }
+}
+
 // unpack_winner, a vector of pixels at a time: the keys' low and high words apart (a key is
 // two 32-bit words, low first), the winners' words and age bins gathered from their records.
 HWY_INLINE void UnpackWinnersRow(const uint64_t* keys, const uint32_t* winner, const ProjectedPoint* records, size_t n,
@@ -158,9 +221,15 @@ namespace epi::render {
 
 HWY_EXPORT(ProjectBatchFrame);
 HWY_EXPORT(UnpackWinners);
+HWY_EXPORT(GatherBatch);
 
 void project_batch(const ViewFrame& frame, ProjectionBatch& batch, size_t n) {
   HWY_DYNAMIC_DISPATCH(ProjectBatchFrame)(frame, batch, n);
+}
+
+void gather_batch(const uint32_t* cloud, uint32_t first, const uint32_t* slots, size_t n, const BatchPlacement& at,
+                  ProjectionBatch& batch) {
+  HWY_DYNAMIC_DISPATCH(GatherBatch)(cloud, first, slots, n, at, batch);
 }
 
 void unpack_winners(const uint64_t* keys, const uint32_t* winner, size_t pitch, const ProjectedPoint* records,

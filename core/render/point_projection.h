@@ -5,13 +5,18 @@
 //   points at once. The same operations in the same order as ViewFrame::project,
 //   PointCache::view_staleness and detail::faces_away, without fused multiply-add
 //   (-ffp-contract=off): bit-identical results (tests/render/point_projection_test.cpp).
+// - gather_batch: a batch's inputs from the cloud (positions placed in the world by their
+//   object's transform, the eye in the object's space), as gather_input does one point.
 // - unpack_winners: a tile's z-buffer winners into the image's planes, as unpack_winner does
 //   one pixel (the same test file).
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
+
+#include <glm/glm.hpp>
 
 #include "render/point_cache_detail.h"
 
@@ -41,6 +46,54 @@ struct ProjectionBatch {
 // Fills the outputs of the first n entries of the batch (n <= kSize); the inputs must be set up
 // to n rounded up to 16 (a vector's lanes), or kSize.
 void project_batch(const ViewFrame& frame, ProjectionBatch& batch, size_t n);
+
+// The cloud as gather_batch reads it: a point is kWords 32-bit words, its object-space position
+// (or background direction) at kLocal..kLocal+2, then its object, packed normal, packed view
+// direction and lobe width (PointCache's CachePoint; point_cache.cpp asserts the layout).
+struct CloudLayout {
+  static constexpr size_t kWords = 12, kLocal = 0, kObject = 3, kNormal = 4, kView = 5, kLobeWidth = 6;
+};
+
+// Where the batch's points are this frame: object o's transform (column-major, as glm::mat4) at
+// object_to_world[16 o], the eye in its space at eye_local[3 o]; a point whose object is not
+// below `objects` (the background) lies at eye + background_depth x its direction.
+struct BatchPlacement {
+  const float* object_to_world;
+  const float* eye_local;
+  uint32_t objects;
+  glm::vec3 eye;
+  float background_depth;
+  float min_lobe_width;  // lobes narrower than this age as if this wide
+};
+
+// One entry of a batch's inputs, k, from the point at `slot` (PointCache::world_position's
+// arithmetic, in the same order).
+inline void gather_input(const uint32_t* cloud, uint32_t slot, const BatchPlacement& at, ProjectionBatch& batch, size_t k) {
+  const uint32_t* w = cloud + size_t(slot) * CloudLayout::kWords;
+  const glm::vec3 local(std::bit_cast<float>(w[CloudLayout::kLocal]), std::bit_cast<float>(w[CloudLayout::kLocal + 1]),
+                        std::bit_cast<float>(w[CloudLayout::kLocal + 2]));
+  const uint32_t object = w[CloudLayout::kObject];
+  glm::vec3 world = at.eye + local * at.background_depth, to_eye(0.0f);
+  batch.normal[k] = 0;
+  if (object < at.objects) {
+    glm::mat4 m;
+    std::copy_n(at.object_to_world + 16 * size_t(object), 16, &m[0][0]);
+    world = glm::vec3(m * glm::vec4(local, 1.0f));
+    const float* e = at.eye_local + 3 * size_t(object);
+    to_eye = glm::vec3(e[0], e[1], e[2]) - local;
+    batch.normal[k] = w[CloudLayout::kNormal];
+  }
+  batch.x[k] = world.x, batch.y[k] = world.y, batch.z[k] = world.z;
+  batch.eye_x[k] = to_eye.x, batch.eye_y[k] = to_eye.y, batch.eye_z[k] = to_eye.z;
+  batch.view[k] = w[CloudLayout::kView];
+  batch.lobe_width[k] = std::max(std::bit_cast<float>(w[CloudLayout::kLobeWidth]), at.min_lobe_width);
+}
+
+// gather_input for entries 0..n-1 from slots[0..n), and on to n rounded up to 16 (a vector's
+// lanes; those slots must name points of the cloud too). Every slot is at least `first` and
+// less than first + 2^27 (the kernel indexes 32-bit words from the first slot's).
+void gather_batch(const uint32_t* cloud, uint32_t first, const uint32_t* slots, size_t n, const BatchPlacement& at,
+                  ProjectionBatch& batch);
 
 // A projected point's record for the z-buffer (16 bytes, binned by tile): its z-buffer key
 // (detail::zkey), EPI colour word, age bin and pixel within its tile.

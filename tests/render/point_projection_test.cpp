@@ -2,7 +2,8 @@
 // compiled and supported here, against the scalar code they replace: ViewFrame::project's depth
 // and pixel bit for bit, the staleness, where the kernel settles it, equal to the scalar formula
 // (detail::staleness_steps of the cosine PointCache::view_staleness computes), the back-face
-// test equal to detail::faces_away; and the z-buffer's unpacking equal to unpack_winner's.
+// test equal to detail::faces_away; the gathered inputs equal to gather_input's; and the
+// z-buffer's unpacking equal to unpack_winner's.
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -90,6 +91,66 @@ TEST(PointProjection, EveryTargetGivesTheScalarBits) {
     EXPECT_GT(settled, size_t(8000)) << hwy::TargetName(target);  // of 40 x ~250: most are settled
     EXPECT_GT(viewed, size_t(500)) << hwy::TargetName(target);
     EXPECT_GT(std::min(facing[0], facing[1]), size_t(3000)) << hwy::TargetName(target);  // both verdicts
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+// Random clouds and placements: batches whose points all have one object (the kernel's broadcast
+// transform), mixed objects, the background (kNone, and objects past the last transform), no
+// transforms at all, partial batches, first slots other than 0; gather_batch's inputs equal
+// gather_input's bit for bit.
+TEST(PointProjection, EveryTargetGathersTheInputsAsTheScalarCode) {
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  for (const int64_t target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> coordinate(-50.0f, 50.0f), unit(0.0f, 1.0f);
+    size_t uniform_batches = 0, background = 0, placed = 0;
+    for (int round = 0; round < 60 && !HasFailure(); ++round) {
+      const uint32_t objects = uint32_t(round % 5);  // 0: the background only
+      std::vector<float> transforms(16 * objects), eyes(3 * objects);
+      for (float& v : transforms) v = coordinate(rng) * (round % 7 == 3 ? 1e30f : 1.0f);
+      for (float& v : eyes) v = coordinate(rng);
+      const uint32_t first = round % 3 == 0 ? 0u : uint32_t(rng() % 4096);
+      constexpr size_t kPoints = 600;
+      std::vector<uint32_t> cloud((size_t(first) + kPoints) * CloudLayout::kWords);
+      for (size_t slot = first; slot < first + kPoints; ++slot) {
+        uint32_t* w = cloud.data() + slot * CloudLayout::kWords;
+        for (size_t k = 0; k < 3; ++k) w[CloudLayout::kLocal + k] = std::bit_cast<uint32_t>(coordinate(rng));
+        // One object per batch in odd rounds; else any object, the background (kNone) or one
+        // past the transforms.
+        const uint32_t pick = round % 2 == 1 ? uint32_t(round / 2) : uint32_t(rng());
+        w[CloudLayout::kObject] = pick % 4 == 3 ? 0xffffffffu : objects > 0 && pick % 5 != 4 ? pick % objects : objects + pick % 3;
+        w[CloudLayout::kNormal] = uint32_t(rng()), w[CloudLayout::kView] = uint32_t(rng());
+        w[CloudLayout::kLobeWidth] = std::bit_cast<uint32_t>(unit(rng) * (rng() % 4 == 0 ? 0.01f : 2.0f));
+      }
+      const BatchPlacement at{transforms.empty() ? nullptr : transforms.data(), eyes.empty() ? nullptr : eyes.data(), objects,
+                              glm::vec3(coordinate(rng), coordinate(rng), coordinate(rng)), 1e6f, 0.02f};
+      std::vector<uint32_t> slots(ProjectionBatch::kSize);
+      for (uint32_t& slot : slots) slot = first + uint32_t(rng() % kPoints);
+      const size_t n = ProjectionBatch::kSize - size_t(rng() % 40);
+      ProjectionBatch got, want;
+      gather_batch(cloud.data(), first, slots.data(), n, at, got);
+      for (size_t k = 0; k < n; ++k) gather_input(cloud.data(), slots[k], at, want, k);
+      bool one_object = true;
+      for (size_t k = 0; k < n; ++k) {
+        const uint32_t object = cloud[size_t(slots[k]) * CloudLayout::kWords + CloudLayout::kObject];
+        one_object &= object == cloud[size_t(slots[0]) * CloudLayout::kWords + CloudLayout::kObject];
+        (object < objects ? placed : background) += 1;
+        const float got_floats[] = {got.x[k], got.y[k], got.z[k], got.eye_x[k], got.eye_y[k], got.eye_z[k], got.lobe_width[k]};
+        const float want_floats[] = {want.x[k], want.y[k], want.z[k], want.eye_x[k], want.eye_y[k], want.eye_z[k], want.lobe_width[k]};
+        for (size_t c = 0; c < 7; ++c)
+          if (!same_bits(got_floats[c], want_floats[c]))
+            ADD_FAILURE() << hwy::TargetName(target) << ", round " << round << ", entry " << k << ", value " << c << ": "
+                          << got_floats[c] << " instead of " << want_floats[c];
+        if (got.normal[k] != want.normal[k] || got.view[k] != want.view[k])
+          ADD_FAILURE() << hwy::TargetName(target) << ", round " << round << ", entry " << k << ": packed normal or view differs";
+      }
+      uniform_batches += one_object;
+    }
+    EXPECT_GE(uniform_batches, size_t(20)) << hwy::TargetName(target);
+    EXPECT_GT(std::min(placed, background), size_t(3000)) << hwy::TargetName(target);
   }
   hwy::SetSupportedTargetsForTest(0);
 }
