@@ -126,7 +126,7 @@ void BM_Points(benchmark::State& state) {
 }
 
 void points_args(benchmark::internal::Benchmark* b) {
-  for (int scene : {0, 1})
+  for (int scene : {0, 1, 2, 3, 4})
     for (auto [w, h] : {std::pair{512, 512}, std::pair{1920, 1080}})
       for (int mode : {0, 1})
         for (int threads : {1, 2}) b->Args({scene, w, h, mode, threads});
