@@ -81,12 +81,14 @@ void filter_rows(float* planes, const float* keep, size_t n, int w, int y0, int 
 // The filter's inputs at pixel i: linear r, g, b and a weight of 1 where the EPI holds a sample
 // and no barrier (else zeros), and a mass of 1 where no barrier. `lut`: epi_color8_to_linear(),
 // whose entry 0 is 0 (no sample: black).
+// Without branches: samples, barriers and empty pixels alternate at random (a branch on them was
+// the row pass's most sampled instruction).
 inline void pixel_values(const EpiImage& epi, std::span<const uint8_t> barrier, const float* lut, size_t i, float v[C]) {
-  const bool sample = !barrier[i] && has_sample(epi.edge[i]);
-  const uint32_t colour = sample ? epi.color[i] : 0u;
+  const uint32_t open = uint32_t(barrier[i] == 0), sample = open & uint32_t(has_sample(epi.edge[i]));
+  const uint32_t colour = epi.color[i] & (0u - sample);
   v[0] = lut[colour & 255], v[1] = lut[(colour >> 8) & 255], v[2] = lut[(colour >> 16) & 255];
-  v[3] = sample ? 1.0f : 0.0f;
-  v[4] = barrier[i] ? 0.0f : 1.0f;
+  v[3] = float(sample);
+  v[4] = float(open);
 }
 
 void check_inputs(const EpiImage& epi, std::span<const uint8_t> barrier, const SparseBlendSettings& settings) {
@@ -215,7 +217,7 @@ size_t sparse_blend(RgbImage& image, const EpiImage& epi, std::span<const uint8_
         float* kept = keep.data() + size_t(x) * L;
         for (int r = 0; r < rows; ++r) {
           const size_t i = first + size_t(r) * size_t(w) + size_t(x);
-          kept[r] = barrier[i] ? 0.0f : 1.0f;
+          kept[r] = float(barrier[i] == 0);
           float value[C];
           if (k == 0) pixel_values(epi, barrier, lut, i, value);
           else for (size_t c = 0; c < C; ++c) value[c] = planes[c * n + i];
