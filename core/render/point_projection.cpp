@@ -129,10 +129,10 @@ void GatherBatch(const uint32_t* cloud, uint32_t first, const uint32_t* slots, s
     const auto placed_f = hn::RebindMask(d, placed);
     // glm's mat4 x vec4, w = 1: (m0 x + m1 y) + (m2 z + m3 1), per row.
     hn::Vec<decltype(d)> world[3], eye[3];
-    const uint32_t first = hn::GetLane(object);
-    if (hn::AllTrue(du, hn::Eq(object, hn::Set(du, first))) && first < at.objects) {
-      const float* m = at.object_to_world + 16 * size_t(first);
-      const float* e = at.eye_local + 3 * size_t(first);
+    const uint32_t lane0_object = hn::GetLane(object);
+    if (hn::AllTrue(du, hn::Eq(object, hn::Set(du, lane0_object))) && lane0_object < at.objects) {
+      const float* m = at.object_to_world + 16 * size_t(lane0_object);
+      const float* e = at.eye_local + 3 * size_t(lane0_object);
       for (int r = 0; r < 3; ++r) {
         world[r] = hn::Add(hn::Add(hn::Mul(hn::Set(d, m[r]), lx), hn::Mul(hn::Set(d, m[4 + r]), ly)),
                            hn::Add(hn::Mul(hn::Set(d, m[8 + r]), lz), hn::Mul(hn::Set(d, m[12 + r]), one)));
