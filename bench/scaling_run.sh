@@ -12,6 +12,8 @@
 #   SCALING_TABLE2        render_bench filter run on 2 cores, the paper's table 2 [every scene, 512²]
 #   SCALING_STAGES        render_stages_bench filter [the sparse blend at 1080p, oracle and kernels,
 #                         1, 2, 4, ... threads]
+#   SCALING_POINTS        render_points_bench filter, fast path only [every scene's point stages at
+#                         1080p, epi mode, 1, 2, 4, ... threads]
 # Any of them "none" skips that part.
 set -euo pipefail
 [ $# -ge 2 ] || { echo "usage: $0 OUT_DIR LABEL=BUNDLE.tar.xz [...]" >&2; exit 2; }
@@ -22,6 +24,7 @@ reconstruct=${SCALING_RECONSTRUCT:-'BM_StreamingFloor/(1920|3840)|BM_Reconstruct
 frame=${SCALING_FRAME:-'BM_FrameThreads/SCENE/1920/1080/'}
 table2=${SCALING_TABLE2:-'BM_Frame/[0-4]/512/512/2/'}
 stages=${SCALING_STAGES:-'BM_SparseBlend/1920/1080/10/'}
+points=${SCALING_POINTS:-'BM_Points/[0-4]/1920/1080/0/'}
 json=(--benchmark_out_format=json)
 for spec in "$@"; do
   label=${spec%%=*} bundle=${spec#*=}
@@ -37,6 +40,10 @@ for spec in "$@"; do
   if [ "$stages" != none ]; then
     echo "== $label: frame-loop stages on 1, 2, 4, ... threads"
     "$b/render_stages_bench" --benchmark_filter="$stages" --benchmark_out="$out/${label}_stages.json" "${json[@]}" 2>&1 | grep -E "^BM_" | cut -c1-160
+  fi
+  if [ "$points" != none ]; then
+    echo "== $label: point stages on 1, 2, 4, ... threads ($(date +%T))"
+    EPI_POINTS_FAST_ONLY=1 "$b/render_points_bench" --benchmark_filter="$points" --benchmark_out="$out/${label}_points.json" "${json[@]}" 2>&1 | grep -E "^BM_" | cut -c1-160
   fi
   if [ "$frame" != none ]; then
     # One run per scene (LABEL_frame_sK.json), so that a run cut off at a time limit keeps the

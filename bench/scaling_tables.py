@@ -16,9 +16,12 @@ measured in one run sit side by side):
   --stages LABEL=FILE        render_stages_bench JSON of BM_SparseBlend (the scalar oracle and the
                              Highway kernels on 1, 2, 4, ... threads).
 
+  --points LABEL=FILE        render_points_bench JSON of BM_Points (the point stages, fast path, on
+                             1, 2, 4, ... threads).
+
   --dir DIR                  everything bench/scaling_run.sh wrote there (LABEL_reconstruct.json,
                              LABEL_frame.json or LABEL_frame_sSCENE.json, LABEL_frame_cCORES.json,
-                             LABEL_stages.json).
+                             LABEL_stages.json, LABEL_points.json).
 
   /usr/bin/python3 bench/scaling_tables.py --dir scaling --chart docs/images/scaling.png
 """
@@ -48,7 +51,7 @@ def best(rows):
     for b in rows:
         if b.get("run_type") == "aggregate" or b.get("error_occurred"):
             continue
-        key = b["name"].split("/min_time")[0].split("/real_time")[0].split("/manual_time")[0]
+        key = re.sub(r"/(min_time|iterations|real_time|manual_time).*$", "", b["name"])
         if key not in out or b["real_time"] < out[key]["real_time"]:
             out[key] = b
     return out
@@ -93,6 +96,20 @@ def stage_rows(label, path):
     return rows
 
 
+POINT_STAGES = ["project", "cull", "occlusion", "fill", "total"]  # render_points_bench's counters
+
+
+def point_rows(label, path):
+    """(label, scene, size, threads) -> {stage: ms} for BM_Points in epi mode (mode 0)."""
+    rows = {}
+    for name, b in best(load(path)["benchmarks"]).items():
+        m = re.match(r"BM_Points/(\d)/(\d+)/(\d+)/0/(\d+)$", name)
+        if m:
+            scene, w, h, threads = map(int, m.groups())
+            rows[(label, SCENES[scene], (w, h), threads)] = {k: b[f"{k}_ms"] for k in POINT_STAGES}
+    return rows
+
+
 def fmt_ms(v):
     return "" if v is None else f"{v:.1f}"
 
@@ -114,13 +131,16 @@ def main():
     ap.add_argument("--reconstruct", action="append", default=[])
     ap.add_argument("--frame", action="append", default=[])
     ap.add_argument("--stages", action="append", default=[])
+    ap.add_argument("--points", action="append", default=[])
     ap.add_argument("--dir")
     ap.add_argument("--chart")
     args = ap.parse_args()
     if args.dir:
         for path in sorted(glob.glob(os.path.join(args.dir, "*.json"))):
-            m = re.match(r"(.+)_(reconstruct|stages|frame|frame_s\d|frame_c(\d+))\.json$", os.path.basename(path))
-            if m and m.group(2) == "reconstruct":
+            m = re.match(r"(.+)_(reconstruct|stages|points|frame|frame_s\d|frame_c(\d+))\.json$", os.path.basename(path))
+            if m and m.group(2) == "points":
+                args.points.append(f"{m.group(1)}={path}")
+            elif m and m.group(2) == "reconstruct":
                 args.reconstruct.append(f"{m.group(1)}={path}")
             elif m and m.group(2) == "stages":
                 args.stages.append(f"{m.group(1)}={path}")
@@ -130,15 +150,17 @@ def main():
                 args.frame.append(f"{m.group(1)}={path}")
             elif m:
                 args.frame.append(f"{m.group(1)}@{m.group(3)}={path}")
-    recon, frames, stage_ms = {}, {}, {}
+    recon, frames, stage_ms, points = {}, {}, {}, {}
     for s in args.reconstruct:
         recon.update(reconstruct_rows(*spec(s, False)))
     for s in args.frame:
         frames.update(frame_rows(*spec(s, True)))
     for s in args.stages:
         stage_ms.update(stage_rows(*spec(s, False)))
-    if not recon and not frames and not stage_ms:
-        sys.exit("scaling_tables.py: no BM_Reconstruct or BM_Frame rows in the inputs")
+    for s in args.points:
+        points.update(point_rows(*spec(s, False)))
+    if not recon and not frames and not stage_ms and not points:
+        sys.exit("scaling_tables.py: no BM_Reconstruct, BM_Frame, BM_SparseBlend or BM_Points rows in the inputs")
 
     series = []  # (title, label, xs, ms) for the chart
     if recon:
@@ -195,6 +217,21 @@ def main():
             o, k = stage_ms.get((label, size, threads, 0)), stage_ms.get((label, size, threads, 1))
             ratio = f"{o / k:.2f}x" if o and k else ""
             print(f"| {label} | {SIZES.get(size, size)} | {threads} | {fmt_ms(o)} | {fmt_ms(k)} | {ratio} |")
+        print()
+
+    if points:
+        print("The point stages (render_points_bench BM_Points, epi mode, fast path; one thread: CPU time, more: wall time), median ms and speed-up over 1 thread:\n")
+        threads = sorted({k[3] for k in points})
+        print("| build | scene | size | stage | " + " | ".join(f"{t} T" for t in threads) + " |")
+        print("|---|---|---|---|" + "---|" * len(threads))
+        for label, scene, size in sorted({k[:3] for k in points}):
+            one = points.get((label, scene, size, 1))
+            for stage in POINT_STAGES:
+                cells = []
+                for t in threads:
+                    v = points.get((label, scene, size, t))
+                    cells.append("" if v is None else f"{v[stage]:.1f}" + (f" ({one[stage] / v[stage]:.1f}x)" if one and v[stage] > 0 else ""))
+                print(f"| {label} | {scene} | {SIZES.get(size, size)} | {stage} | " + " | ".join(cells) + " |")
         print()
 
     if args.chart:

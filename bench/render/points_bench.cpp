@@ -19,6 +19,7 @@
 
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
 #include "load_scene.h"
 #include "render/camera_path.h"
@@ -69,16 +70,16 @@ double median(std::vector<double> v) {
 
 // args: scene, width, height, mode (0 epi, 1 render cache), threads
 void BM_Points(benchmark::State& state) {
-  const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, size_t(state.range(4)));
   const int width = int(state.range(1)), height = int(state.range(2));
-  Warmed& w = warmed(int(state.range(0)), width, height);
+  Warmed& w = warmed(int(state.range(0)), width, height);  // on all cores: the warm-up is not timed
+  const tbb::global_control threads(tbb::global_control::max_allowed_parallelism, size_t(state.range(4)));
   const bool epi = state.range(3) == 0;
   PointCache fast(*w.cache), reference(*w.cache);
   reference.use_reference_path(true);
   EpiImage epi_image(width, height);
   enum { kProject, kCull, kOcclusion, kFill, kTotal, kStages };
   std::vector<double> times[2][kStages];
-  // One thread: CPU time of the thread doing the work (robust on a shared machine); two: wall time.
+  // One thread: CPU time of the thread doing the work (robust on a shared machine); more: wall time.
   const bool cpu_time = state.range(4) == 1;
   auto now_ms = [cpu_time] {
     if (!cpu_time) return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
@@ -125,11 +126,14 @@ void BM_Points(benchmark::State& state) {
   state.SetLabel(std::string(kScenes[state.range(0)]) + (epi ? " epi" : " rendercache"));
 }
 
+// 1 and 2 threads; at 1080p also 4, 8, ... up to the cores (scaling past two cores:
+// bench/scaling_run.sh).
 void points_args(benchmark::internal::Benchmark* b) {
+  const int cores = std::max(2, tbb::this_task_arena::max_concurrency());
   for (int scene : {0, 1, 2, 3, 4})
     for (auto [w, h] : {std::pair{512, 512}, std::pair{1920, 1080}})
       for (int mode : {0, 1})
-        for (int threads : {1, 2}) b->Args({scene, w, h, mode, threads});
+        for (int threads = 1; threads <= (w == 1920 ? cores : 2); threads *= 2) b->Args({scene, w, h, mode, threads});
 }
 
 BENCHMARK(BM_Points)->Apply(points_args)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(30);
