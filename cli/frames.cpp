@@ -168,7 +168,7 @@ int run_render_frames(const RenderOptions& options) {
   struct Series {
     std::array<std::vector<double>, render::kFrameStageCount> stages;  // per render::kFrameStages
     std::vector<double> total, empty, simple, complex_pixels, silhouette, sharp, border, shadow, culled, samples, requested,
-        predicted, points_culled, points_occluded, holes_filled, sparse_blended, result_lag;
+        predicted, points_culled, points_occluded, holes_filled, sparse_blended, result_lag, integrate;
   } series;
   stage = Clock::now();
   double write_frames_ms = 0.0;
@@ -198,6 +198,7 @@ int run_render_frames(const RenderOptions& options) {
       series.points_culled.push_back(double(s.points.culled)), series.points_occluded.push_back(double(s.points.occluded));
       series.holes_filled.push_back(double(s.holes_filled));
       series.sparse_blended.push_back(double(s.sparse_blended));
+      series.integrate.push_back(s.integrate_ms);
       if (s.samples > 0) series.result_lag.push_back(s.result_lag);  // frames that integrated results
       if (!options.frames_out.empty()) {
         const auto t = Clock::now();
@@ -297,6 +298,7 @@ int run_render_frames(const RenderOptions& options) {
                         : options.camera.any() || scene.camera_path.empty() ? std::string("still")
                                                                                           : std::string("scene")},
         {"stages_ms", stages_ms},
+        {"integrate_ms", median(series.integrate)},  // of stages_ms.points: new results into the cache
         {"fps", frame_ms > 0.0 ? 1000.0 / frame_ms : 0.0},
         {"pixels", {{"empty", mean(series.empty)}, {"simple", mean(series.simple)}, {"complex", mean(series.complex_pixels)}}},
         {"edges",

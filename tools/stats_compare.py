@@ -18,7 +18,7 @@ def best_medians(files, stages):
             stats = json.load(f)
         key = f"{os.path.basename(stats['scene'])} {stats['width']}x{stats['height']}"
         for stage in stages:
-            ms = stats["stages_ms"][stage]
+            ms = stats["stages_ms"][stage] if stage in stats["stages_ms"] else stats[f"{stage}_ms"]  # e.g. integrate_ms
             best[(key, stage)] = min(best.get((key, stage), ms), ms)
     return best
 
@@ -27,7 +27,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--base", nargs="+", required=True)
     parser.add_argument("--new", nargs="+", required=True)
-    parser.add_argument("--stage", action="append", help="a stages_ms entry (default: sampling, points, total)")
+    parser.add_argument("--stage", action="append", help="a stages_ms entry, or X for a top-level X_ms such as integrate_ms (default: sampling, points, total)")
     args = parser.parse_args()
     stages = args.stage or ["sampling", "points", "total"]
     base, new = best_medians(args.base, stages), best_medians(args.new, stages)

@@ -66,7 +66,7 @@ void frames(benchmark::State& state, int mode, int threads) {
   for (int k = 0; k < kPathFrames; ++k) renderer.render(path.camera_at(frame++ % kPathFrames));
   tbb::task_arena loop_arena(threads > 0 ? threads : int(tbb::task_arena::automatic));
   StageTimes sum;
-  double samples = 0, simple = 0, complex = 0, edges = 0, culled = 0, blended = 0;
+  double samples = 0, simple = 0, complex = 0, edges = 0, culled = 0, blended = 0, integrate = 0;
   int64_t frames = 0;
   for (auto _ : state) {
     loop_arena.execute([&] { renderer.render(path.camera_at(frame++ % kPathFrames)); });
@@ -76,6 +76,7 @@ void frames(benchmark::State& state, int mode, int threads) {
     sum.total += f.ms.loop_ms();
     samples += double(f.samples);
     blended += double(f.sparse_blended);
+    integrate += f.integrate_ms;
     simple += double(f.pixels.simple), complex += double(f.pixels.complex);
     edges += double(f.edges.silhouette + f.edges.sharp + f.edges.border + f.edges.shadow), culled += double(f.edges.culled);
     ++frames;
@@ -85,6 +86,7 @@ void frames(benchmark::State& state, int mode, int threads) {
   for (const FrameStageInfo& i : kFrameStages)
     if (i.loop) state.counters[std::string(i.name) + "_ms"] = sum[i.stage] / n;
   state.counters["loop_ms"] = sum.total / n;
+  state.counters["integrate_ms"] = integrate / n;  // of points_ms
   state.counters["fps"] = 1000.0 / (sum.total / n);
   state.counters["sparseness"] = pixels / std::max(1.0, samples / n);
   state.counters["simple_pct"] = 100.0 * simple / n / pixels;

@@ -389,7 +389,9 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   } else if (async_) {
     async_->take_results(batch);
   }
+  const auto ti = Clock::now();
   integrate(batch);
+  stats_.integrate_ms = ms_since(ti);
   // Epi mode: the depth cull waits for the edges (it must spare the far side of silhouettes), and
   // the edge-aware occlusion test follows it (docs/render.md, "Hidden points").
   const bool edge_aware = settings_.mode == RenderMode::epi && settings_.occlusion_test && finder_ && settings_.view_edges;

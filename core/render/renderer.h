@@ -101,6 +101,7 @@ struct FrameStats {
   size_t holes_filled = 0;  // pixels that reached no sample, filled by fill_holes
   size_t sparse_blended = 0;  // pixels blended towards the smooth interpolation (sparse_blend.h)
   int loop_threads = 0;     // the frame loop's concurrency this frame (FrameSettings::core_split)
+  double integrate_ms = 0.0;  // of ms.points: integrating the new results into the cache (PointCache::insert)
   // Frames from a request's choice to its result's integration, mean over this frame's results
   // (the last frame's value when none came); what FrameSettings::trace_ahead extrapolates by.
   double result_lag = 0.0;
