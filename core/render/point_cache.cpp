@@ -467,7 +467,7 @@ void PointCache::choose_evict_age(size_t needed) {
 }
 
 int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, const glm::vec3& last_world,
-                                std::span<const glm::mat4> object_to_world) const {
+                                std::span<const glm::mat4> object_to_world, HiddenSearch* trace) const {
   // Candidates: the z-buffer winners of the last projection near where the shot's ray runs in it,
   // from the hit (3x3 around it) along the ray's image towards its vanishing point (parallax when
   // the eye moved), at most kMaxWalk pixels.
@@ -486,9 +486,11 @@ int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, con
   };
   auto check = [&](int x, int y) -> int32_t {
     if (x < 0 || y < 0 || x >= w || y >= h) return -1;
+    if (trace) trace->pixels[size_t(trace->count++)] = uint32_t(image_.index(x, y));
     const int32_t q = winners_[image_.index(x, y)];
     return hidden(q) ? q : -1;
   };
+  if (trace) trace->count = 0;
   const Projection p0 = last_frame_->project(last_world);
   // In front, and near the image (a hit close to the last eye's plane projects far away, or to
   // non-finite pixels: converting those to int would be undefined).
@@ -519,39 +521,76 @@ int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, con
   return -1;
 }
 
+void PointCache::prepare_result(const ViewFrame& shot, const ShadeResult& r, std::span<const glm::mat4> object_to_world,
+                                uint16_t epoch, bool search_hidden, PreparedResult& out) const {
+  CachePoint& point = out.point;
+  PointColour& colour = out.colour;
+  point = CachePoint{}, colour = PointColour{};
+  colour.color = glm::max(r.color, glm::vec3(0.0f));
+  colour.view_dependent = glm::clamp(r.view_dependent, glm::vec3(0.0f), colour.color);
+  colour.epoch = epoch;
+  update_from_colour(point, colour);
+  point.lobe_width = r.hit ? r.lobe_width : 0.0f;
+  point.view = r.hit ? pack_unit(shot.eye() - r.position) : 0;
+  point.valid = true;
+  if (r.hit && r.object < object_to_world.size()) {
+    point.object = r.object;
+    point.local = glm::vec3(to_object_[r.object] * glm::vec4(r.position, 1.0f));
+    // Normals go to object space with the transpose of the object-to-world matrix.
+    point.normal = pack_unit(glm::transpose(glm::mat3(object_to_world[r.object])) * r.normal);
+    // Where the point was at the last projection (its object may have moved since the shot).
+    out.world = r.object < last_transforms_.size() ? glm::vec3(last_transforms_[r.object] * glm::vec4(point.local, 1.0f))
+                                                   : r.position;
+  } else {
+    point.object = kNone;
+    point.local = shot.ray(r.x, r.y).direction;
+    out.world = shot.eye() + point.local * background_depth_;
+  }
+  out.hidden.found = -1, out.hidden.count = 0;
+  if (search_hidden && last_frame_ && r.hit && point.object != kNone)
+    out.hidden.found = find_hidden(shot, r, out.world, object_to_world, &out.hidden);
+}
+
+bool PointCache::search_outdated(const HiddenSearch& search) const {
+  for (int k = 0; k < search.count; ++k) {
+    const uint32_t pixel = search.pixels[size_t(k)];
+    const int32_t winner = winners_[pixel];
+    if (pixel_touched_[pixel] || (winner >= 0 && slot_touched_[size_t(winner)])) return true;
+  }
+  return false;
+}
+
 size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::span<const glm::mat4> object_to_world,
                           uint16_t epoch) {
   pixel_words_current_ = false;  // ages and colours may change
   to_object_.resize(object_to_world.size());
-  inverted_.assign(object_to_world.size(), 0);
+  for (size_t k = 0; k < object_to_world.size(); ++k) to_object_[k] = glm::inverse(object_to_world[k]);
   const int w = image_.width, h = image_.height;
   if (free_slots_.size() < batch.results.size()) choose_evict_age(batch.results.size() - free_slots_.size());
+
+  // First, each result on its own, in parallel: its point, and (the fast path) the hidden point
+  // its ray shows, searched in the cloud as the batch found it. Then the results in order, as one
+  // serial loop would take them: a search that read a winner or a record an earlier result has
+  // changed since is made again (docs/render.md, "Integrating results"), so the cache ends as the
+  // serial loop leaves it.
+  const bool search_ahead = !settings_.reference_path;
+  prepared_.resize(batch.results.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, batch.results.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t k = range.begin(); k < range.end(); ++k)
+      prepare_result(shot, batch.results[k], object_to_world, epoch, search_ahead, prepared_[k]);
+  });
+  slot_touched_.resize(points_.size());
+  pixel_touched_.resize(winners_.size());
+  auto touch_pixel = [&](size_t pixel) {
+    if (!pixel_touched_[pixel]) pixel_touched_[pixel] = 1, touched_pixels_.push_back(uint32_t(pixel));
+  };
+
   size_t inserted = 0;
-  for (const ShadeResult& r : batch.results) {
-    CachePoint point;
-    PointColour colour;
-    colour.color = glm::max(r.color, glm::vec3(0.0f));
-    colour.view_dependent = glm::clamp(r.view_dependent, glm::vec3(0.0f), colour.color);
-    colour.epoch = epoch;
-    update_from_colour(point, colour);
-    point.lobe_width = r.hit ? r.lobe_width : 0.0f;
-    point.view = r.hit ? pack_unit(shot.eye() - r.position) : 0;
-    point.valid = true;
-    glm::vec3 world;
-    if (r.hit && r.object < object_to_world.size()) {
-      if (!inverted_[r.object]) to_object_[r.object] = glm::inverse(object_to_world[r.object]), inverted_[r.object] = 1;
-      point.object = r.object;
-      point.local = glm::vec3(to_object_[r.object] * glm::vec4(r.position, 1.0f));
-      // Normals go to object space with the transpose of the object-to-world matrix.
-      point.normal = pack_unit(glm::transpose(glm::mat3(object_to_world[r.object])) * r.normal);
-      // Where the point was at the last projection (its object may have moved since the shot).
-      world = r.object < last_transforms_.size() ? glm::vec3(last_transforms_[r.object] * glm::vec4(point.local, 1.0f))
-                                                 : r.position;
-    } else {
-      point.object = kNone;
-      point.local = shot.ray(r.x, r.y).direction;
-      world = shot.eye() + point.local * background_depth_;
-    }
+  for (size_t k = 0; k < batch.results.size(); ++k) {
+    const ShadeResult& r = batch.results[k];
+    const CachePoint& point = prepared_[k].point;
+    const PointColour& colour = prepared_[k].colour;
+    const glm::vec3 world = prepared_[k].world;
 
     // The point drawn where this result lands in the last projection: replaced if it is the same surface.
     int32_t replace = -1;
@@ -591,6 +630,7 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
             stats.count = uint16_t(std::min<int>(stats.count + 1, 0xffff));
             update_from_colour(cached, stats);
             cached.age = 0;
+            touch_slot(size_t(old));
             ++refined_;
             ++inserted;
             continue;
@@ -600,7 +640,10 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
             for (int qy = std::max(0, py - r0); qy <= std::min(h - 1, py + r0); ++qy)
               for (int qx = std::max(0, px - r0); qx <= std::min(w - 1, px + r0); ++qx) {
                 const int32_t q = image_.point[image_.index(qx, qy)];
-                if (q >= 0) points_[size_t(q)].age = uint16_t(std::min(points_[size_t(q)].age + settings_.change_penalty, 0xffff));
+                if (q >= 0) {
+                  points_[size_t(q)].age = uint16_t(std::min(points_[size_t(q)].age + settings_.change_penalty, 0xffff));
+                  touch_slot(size_t(q));
+                }
               }
           }
         }
@@ -613,11 +656,15 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
       // a point of the last projection there (within kRadius of the ray, farther by a margin)
       // gives its slot to this result (or is freed when the result already has one).
       if (r.hit && point.object != kNone) {
-        const int32_t hidden = find_hidden(shot, r, world, object_to_world);
+        const HiddenSearch& ahead = prepared_[k].hidden;
+        const int32_t hidden =
+            search_ahead && !search_outdated(ahead) ? ahead.found : find_hidden(shot, r, world, object_to_world);
         if (hidden >= 0) {
           CachePoint& q = points_[size_t(hidden)];
+          touch_slot(size_t(hidden));
           if (q.image_id >= 0 && winners_[size_t(q.image_id)] == hidden) {
             winners_[size_t(q.image_id)] = -1;
+            touch_pixel(size_t(q.image_id));
             image_.point[size_t(q.image_id)] = -1;
           }
           ++hidden_removed_;
@@ -631,11 +678,15 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
       }
     }
     const size_t slot = replace >= 0 ? size_t(replace) : take_slot();
+    touch_slot(slot);
     points_[slot] = point, colours_[slot] = colour;
     seeded_at_[slot] = in_front_of_drawn ? projections_ + 1 : 0;
     if (in_front_of_drawn && new_occluder_rule()) recent_occluders_.push_back({uint32_t(slot), projections_ + 1});
     ++inserted;
   }
+  for (const uint32_t slot : touched_slots_) slot_touched_[slot] = 0;
+  for (const uint32_t pixel : touched_pixels_) pixel_touched_[pixel] = 0;
+  touched_slots_.clear(), touched_pixels_.clear();
   return inserted;
 }
 

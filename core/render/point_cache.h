@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -250,8 +251,31 @@ class PointCache {
   bool drawn(size_t slot) const;  // the point is the one drawn at its pixel in the last projection
   bool back_facing(const CachePoint& p) const;  // uses eye_local_ of the current projection
   void choose_evict_age(size_t needed);
+  // insert's first phase, one result at a time and independent of the others (so in parallel):
+  // the new point, where its surface was at the last projection, and find_hidden's verdict with
+  // the pixels it read, to be checked against what earlier results of the batch changed.
+  struct HiddenSearch {
+    static constexpr int kMaxPixels = 25;  // the 3x3 around the hit, then at most 16 steps of the walk
+    int32_t found = -1;
+    int count = 0;  // pixels read, in order, up to and including the one found
+    std::array<uint32_t, kMaxPixels> pixels;
+  };
+  struct PreparedResult {
+    CachePoint point;
+    PointColour colour;
+    glm::vec3 world;  // where the point's surface was at the last projection
+    HiddenSearch hidden;
+  };
+  void prepare_result(const ViewFrame& shot, const ShadeResult& r, std::span<const glm::mat4> object_to_world,
+                      uint16_t epoch, bool search_hidden, PreparedResult& out) const;
+  // Whether an earlier result of the batch changed what `search` read (a winner, or a winner's record).
+  bool search_outdated(const HiddenSearch& search) const;
+  void touch_slot(size_t slot) {
+    if (!slot_touched_[slot]) slot_touched_[slot] = 1, touched_slots_.push_back(uint32_t(slot));
+  }
+  // `trace`, when given, records the pixels read and the verdict.
   int32_t find_hidden(const ViewFrame& shot, const ShadeResult& r, const glm::vec3& last_world,
-                      std::span<const glm::mat4> object_to_world) const;
+                      std::span<const glm::mat4> object_to_world, HiddenSearch* trace = nullptr) const;
   // The reference path (PointCacheSettings::reference_path).
   ProjectionCounts project_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull);
   size_t depth_cull_reference(std::span<const uint8_t> edge_pixels);
@@ -370,7 +394,11 @@ class PointCache {
   std::vector<uint8_t> hidden_;             // ... and the reference path's verdicts
   std::vector<glm::vec3> eye_local_;        // the eye in each object's space (project)
   std::vector<glm::mat4> to_object_;  // insert: inverse object transforms
-  std::vector<uint8_t> inverted_;
+  std::vector<PreparedResult> prepared_;  // insert: per result (~200 bytes)
+  // insert: slots and pixels whose record or z-buffer winner an earlier result of the batch
+  // changed (1 byte per slot and per pixel), and their indices, to clear them after the batch.
+  std::vector<uint8_t> slot_touched_, pixel_touched_;
+  std::vector<uint32_t> touched_slots_, touched_pixels_;
   std::vector<uint8_t> no_refine_;  // see set_refine_mask
   float background_depth_ = 1e6f;  // where background points are placed along their direction
   std::optional<ViewFrame> last_frame_;
