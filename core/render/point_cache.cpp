@@ -571,8 +571,8 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
   // First, each result on its own, in parallel: its point, and (the fast path) the hidden point
   // its ray shows, searched in the cloud as the batch found it. Then the results in order, as one
   // serial loop would take them: a search that read a winner or a record an earlier result has
-  // changed since is made again (docs/render.md, "Integrating results"), so the cache ends as the
-  // serial loop leaves it.
+  // changed since is made again, so the cache ends as the serial loop leaves it (docs/render.md,
+  // "Points": insertion in two phases).
   const bool search_ahead = !settings_.reference_path;
   prepared_.resize(batch.results.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, batch.results.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
