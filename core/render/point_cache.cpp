@@ -521,52 +521,8 @@ int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, con
   return -1;
 }
 
-PointCache::Landing PointCache::land(const CachePoint& point, const PointColour& colour, const glm::vec3& world,
-                                     bool hit) const {
-  Landing landing;
-  const int w = image_.width, h = image_.height;
-  const Projection proj = last_frame_->project(world);
-  if (!(proj.in_front() && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f && proj.pixel.x < float(w) && proj.pixel.y < float(h))) {
-    // Outside the last projection's image: a surface coming into view (an object sweeping in
-    // from the image's side) stands in front of whatever this projection draws there.
-    landing.in_front_of_drawn = hit && point.object != kNone;
-    return landing;
-  }
-  const size_t pixel = image_.index(std::min(w - 1, int(proj.pixel.x)), std::min(h - 1, int(proj.pixel.y)));
-  const int32_t old = image_.point[pixel];
-  // The z-buffer's winner, before the culls: where the occlusion test emptied a pixel behind a
-  // new occluder's earlier samples, the result still lands in front of what was there.
-  // (Where the winner is still drawn, the image holds its depth: no projection needed.)
-  const int32_t winner = winners_[pixel];
-  landing.pixel = uint32_t(pixel), landing.old = old, landing.winner = winner;
-  if (winner >= 0 && hit && point.object != kNone && points_[size_t(winner)].valid && points_[size_t(winner)].age != 0) {
-    const float winner_depth =
-        old == winner ? image_.depth[pixel]
-                      : last_frame_->project(world_position(points_[size_t(winner)], *last_frame_, last_transforms_)).depth;
-    landing.in_front_of_drawn = proj.depth * (1.0f + kNewOccluderMargin) < winner_depth;
-  }
-  // The point drawn there is replaced if it is the same surface. (Age 0: the slot was given to a
-  // result since the projection: not the point drawn there.)
-  if (old >= 0 && points_[size_t(old)].valid && points_[size_t(old)].age != 0 && points_[size_t(old)].object == point.object &&
-      (point.object == kNone || std::abs(image_.depth[pixel] - proj.depth) <= 0.05f * proj.depth)) {
-    const PointColour& stats = colours_[size_t(old)];
-    landing.replaces = true;
-    landing.refines = (no_refine_.size() != image_.point.size() || !no_refine_[pixel]) && refines(points_[size_t(old)], stats, point, colour);
-    landing.penalises = !landing.refines && stats.epoch != colour.epoch &&
-                        shading_changed(stats.color, colour.color, settings_.change_threshold);
-  }
-  return landing;
-}
-
-// (The winner's flag alone covers today's changes: a z-buffer change flags the winner's slot too,
-// and the point drawn is the winner or none. The other two guard the reads land() makes.)
-bool PointCache::landing_outdated(const Landing& landing) const {
-  return landing.pixel != ~0u && (pixel_touched_[landing.pixel] || (landing.old >= 0 && slot_touched_[size_t(landing.old)]) ||
-                                  (landing.winner >= 0 && slot_touched_[size_t(landing.winner)]));
-}
-
 void PointCache::prepare_result(const ViewFrame& shot, const ShadeResult& r, std::span<const glm::mat4> object_to_world,
-                                uint16_t epoch, bool search_ahead, PreparedResult& out) const {
+                                uint16_t epoch, bool search_hidden, PreparedResult& out) const {
   CachePoint& point = out.point;
   PointColour& colour = out.colour;
   point = CachePoint{}, colour = PointColour{};
@@ -590,10 +546,8 @@ void PointCache::prepare_result(const ViewFrame& shot, const ShadeResult& r, std
     point.local = shot.ray(r.x, r.y).direction;
     out.world = shot.eye() + point.local * background_depth_;
   }
-  out.landing = Landing{};
-  if (search_ahead && last_frame_) out.landing = land(point, colour, out.world, r.hit);
   out.hidden.found = -1, out.hidden.count = 0;
-  if (search_ahead && last_frame_ && r.hit && point.object != kNone)
+  if (search_hidden && last_frame_ && r.hit && point.object != kNone)
     out.hidden.found = find_hidden(shot, r, out.world, object_to_world, &out.hidden);
 }
 
@@ -642,41 +596,61 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
     int32_t replace = -1;
     bool in_front_of_drawn = false;  // a new occluder (PointCacheSettings::new_occluder_radius)
     if (last_frame_) {
-      const Landing& ahead_landing = prepared_[k].landing;
-      const Landing landing = search_ahead && !landing_outdated(ahead_landing) ? ahead_landing : land(point, colour, world, r.hit);
-      in_front_of_drawn = landing.in_front_of_drawn;
-      if (landing.replaces) {
-        const int32_t old = landing.old;
-        replace = old;
-        if (landing.refines) {
-          // The same surface point under the same placement: one more sample of the same
-          // quantity. A running mean (Welford for the luminance's variance), not a replacement.
+      const Projection proj = last_frame_->project(world);
+      if (proj.in_front() && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f && proj.pixel.x < float(w) &&
+          proj.pixel.y < float(h)) {
+        const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
+        const int32_t old = image_.point[image_.index(px, py)];
+        // The z-buffer's winner, before the culls: where the occlusion test emptied a pixel behind a
+        // new occluder's earlier samples, the result still lands in front of what was there.
+        // (Where the winner is still drawn, the image holds its depth: no projection needed.)
+        const int32_t winner = winners_[image_.index(px, py)];
+        if (winner >= 0 && r.hit && point.object != kNone && points_[size_t(winner)].valid && points_[size_t(winner)].age != 0) {
+          const float winner_depth =
+              old == winner ? image_.depth[image_.index(px, py)]
+                            : last_frame_->project(world_position(points_[size_t(winner)], *last_frame_, last_transforms_)).depth;
+          in_front_of_drawn = proj.depth * (1.0f + kNewOccluderMargin) < winner_depth;
+        }
+        // (age 0: the slot was given to a result since the projection: not the point drawn there)
+        if (old >= 0 && points_[size_t(old)].valid && points_[size_t(old)].age != 0 &&
+            points_[size_t(old)].object == point.object &&
+            (point.object == kNone || std::abs(image_.depth[image_.index(px, py)] - proj.depth) <= 0.05f * proj.depth)) {
+          replace = old;
           CachePoint& cached = points_[size_t(old)];
           PointColour& stats = colours_[size_t(old)];
-          const float n = float(stats.count) + 1.0f;
-          const float before = luminance(stats.color);
-          stats.color += (colour.color - stats.color) / n;
-          stats.view_dependent += (colour.view_dependent - stats.view_dependent) / n;
-          stats.luminance_m2 += (luminance(colour.color) - before) * (luminance(colour.color) - luminance(stats.color));
-          stats.count = uint16_t(std::min<int>(stats.count + 1, 0xffff));
-          update_from_colour(cached, stats);
-          cached.age = 0;
-          touch_slot(size_t(old));
-          ++refined_;
-          ++inserted;
-          continue;
-        }
-        if (landing.penalises) {
-          const int r0 = settings_.change_radius, px = int(landing.pixel % uint32_t(w)), py = int(landing.pixel / uint32_t(w));
-          for (int qy = std::max(0, py - r0); qy <= std::min(h - 1, py + r0); ++qy)
-            for (int qx = std::max(0, px - r0); qx <= std::min(w - 1, px + r0); ++qx) {
-              const int32_t q = image_.point[image_.index(qx, qy)];
-              if (q >= 0) {
-                points_[size_t(q)].age = uint16_t(std::min(points_[size_t(q)].age + settings_.change_penalty, 0xffff));
-                touch_slot(size_t(q));
+          const size_t pixel = image_.index(px, py);
+          if ((no_refine_.size() != image_.point.size() || !no_refine_[pixel]) && refines(cached, stats, point, colour)) {
+            // The same surface point under the same placement: one more sample of the same
+            // quantity. A running mean (Welford for the luminance's variance), not a replacement.
+            const float n = float(stats.count) + 1.0f;
+            const float before = luminance(stats.color);
+            stats.color += (colour.color - stats.color) / n;
+            stats.view_dependent += (colour.view_dependent - stats.view_dependent) / n;
+            stats.luminance_m2 += (luminance(colour.color) - before) * (luminance(colour.color) - luminance(stats.color));
+            stats.count = uint16_t(std::min<int>(stats.count + 1, 0xffff));
+            update_from_colour(cached, stats);
+            cached.age = 0;
+            touch_slot(size_t(old));
+            ++refined_;
+            ++inserted;
+            continue;
+          }
+          if (stats.epoch != colour.epoch && shading_changed(stats.color, colour.color, settings_.change_threshold)) {
+            const int r0 = settings_.change_radius;
+            for (int qy = std::max(0, py - r0); qy <= std::min(h - 1, py + r0); ++qy)
+              for (int qx = std::max(0, px - r0); qx <= std::min(w - 1, px + r0); ++qx) {
+                const int32_t q = image_.point[image_.index(qx, qy)];
+                if (q >= 0) {
+                  points_[size_t(q)].age = uint16_t(std::min(points_[size_t(q)].age + settings_.change_penalty, 0xffff));
+                  touch_slot(size_t(q));
+                }
               }
-            }
+          }
         }
+      } else {
+        // Outside the last projection's image: a surface coming into view (an object sweeping in
+        // from the image's side) stands in front of whatever this projection draws there.
+        in_front_of_drawn = r.hit && point.object != kNone;
       }
       // The ray is evidence that what lies behind its hit along it is hidden from the shot's eye:
       // a point of the last projection there (within kRadius of the ray, farther by a margin)

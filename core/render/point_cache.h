@@ -251,21 +251,9 @@ class PointCache {
   bool drawn(size_t slot) const;  // the point is the one drawn at its pixel in the last projection
   bool back_facing(const CachePoint& p) const;  // uses eye_local_ of the current projection
   void choose_evict_age(size_t needed);
-  // Where a result lands in the last projection and what the insert does there, read from the
-  // cloud as it is: the pixel (~0: outside the image), the point drawn there and the z-buffer's
-  // winner, whether the result stands in front of that winner (a new occluder), replaces the
-  // drawn point (the same surface), refines it (a running mean) or ages the points around it
-  // (its shading changed).
-  struct Landing {
-    uint32_t pixel = ~0u;
-    int32_t old = -1, winner = -1;
-    bool in_front_of_drawn = false, replaces = false, refines = false, penalises = false;
-  };
-  Landing land(const CachePoint& point, const PointColour& colour, const glm::vec3& world, bool hit) const;
   // insert's first phase, one result at a time and independent of the others (so in parallel):
-  // the new point, where its surface was at the last projection, where it lands, and
-  // find_hidden's verdict with the pixels it read, all to be checked against what earlier
-  // results of the batch changed.
+  // the new point, where its surface was at the last projection, and find_hidden's verdict with
+  // the pixels it read, to be checked against what earlier results of the batch changed.
   struct HiddenSearch {
     static constexpr int kMaxPixels = 25;  // the 3x3 around the hit, then at most 16 steps of the walk
     int32_t found = -1;
@@ -276,14 +264,11 @@ class PointCache {
     CachePoint point;
     PointColour colour;
     glm::vec3 world;  // where the point's surface was at the last projection
-    Landing landing;
     HiddenSearch hidden;
   };
   void prepare_result(const ViewFrame& shot, const ShadeResult& r, std::span<const glm::mat4> object_to_world,
-                      uint16_t epoch, bool search_ahead, PreparedResult& out) const;
-  // Whether an earlier result of the batch changed what `landing` or `search` read (a drawn
-  // point or a winner, or their records).
-  bool landing_outdated(const Landing& landing) const;
+                      uint16_t epoch, bool search_hidden, PreparedResult& out) const;
+  // Whether an earlier result of the batch changed what `search` read (a winner, or a winner's record).
   bool search_outdated(const HiddenSearch& search) const;
   void touch_slot(size_t slot) {
     if (!slot_touched_[slot]) slot_touched_[slot] = 1, touched_slots_.push_back(uint32_t(slot));
