@@ -220,6 +220,9 @@ def main():
         print()
 
     if points:
+        for label, scene, size in sorted({k[:3] for k in points}):
+            ts = sorted(t for (l, sc, sz, t) in points if (l, sc, sz) == (label, scene, size))
+            series.append((f"points {SIZES.get(size, size)}, {scene}", label, ts, [points[(label, scene, size, t)]["total"] for t in ts]))
         print("The point stages (render_points_bench BM_Points, epi mode, fast path; one thread: CPU time, more: wall time), median ms and speed-up over 1 thread:\n")
         threads = sorted({k[3] for k in points})
         print("| build | scene | size | stage | " + " | ".join(f"{t} T" for t in threads) + " |")
@@ -238,24 +241,34 @@ def main():
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        # One panel for the reconstruction alone, one for the whole frame loop.
-        fig, axes = plt.subplots(1, 2, figsize=(12, 5), sharey=True)
-        for ax, kind in zip(axes, ("reconstruction", "frame")):
+        # One panel per kind of series present: the reconstruction alone, the whole frame loop, the
+        # point stages alone. In a panel the colour names the case (size and edges, or scene) and
+        # the line style and marker the build, so that builds of one case read side by side.
+        kinds = [k for k in ("reconstruction", "frame", "points") if any(t.startswith(k) for t, *_ in series)]
+        titles = {"reconstruction": "the reconstruction (epi_bench)", "frame": "the frame loop (render_bench)",
+                  "points": "the point stages alone (render_points_bench)"}
+        styles = [("-", "o"), ("--", "s"), (":", "^"), ("-.", "D"), ((0, (5, 1)), "v")]
+        colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+        fig, axes = plt.subplots(1, len(kinds), figsize=(6 * len(kinds), 5), sharey=True, squeeze=False)
+        for ax, kind in zip(axes[0], kinds):
+            mine = [x for x in series if x[0].startswith(kind) and len(x[2]) >= 2]  # one core count: no line to draw
+            cases = sorted({t for t, *_ in mine})
+            builds = sorted({l for _, l, *_ in mine})
             top = 1
-            for title, label, xs, ms in series:
-                if len(xs) < 2 or not title.startswith(kind):
-                    continue  # one core count: no line to draw
+            for title, label, xs, ms in mine:
                 speedup = [ms[0] * xs[0] / m for m in ms]  # relative to one thread, extrapolated from the first point
-                ax.plot(xs, speedup, marker="o", label=f"{label}: {title[len(kind):].lstrip()}")
+                style, marker = styles[builds.index(label) % len(styles)]
+                ax.plot(xs, speedup, linestyle=style, marker=marker, color=colours[cases.index(title) % len(colours)],
+                        label=f"{label}: {title[len(kind):].lstrip()}")
                 top = max(top, max(xs))
             ax.plot([1, top], [1, top], "k--", linewidth=0.8, label="linear")
             ax.set_xscale("log", base=2)
             ax.set_yscale("log", base=2)
             ax.set_xlabel("threads (cores)")
-            ax.set_title("the reconstruction (epi_bench)" if kind == "reconstruction" else "the frame loop (render_bench)")
-            ax.legend(fontsize=7)
+            ax.set_title(titles[kind])
+            ax.legend(fontsize=6)
             ax.grid(True, which="both", alpha=0.3)
-        axes[0].set_ylabel("speed-up over one thread")
+        axes[0][0].set_ylabel("speed-up over one thread")
         fig.tight_layout()
         fig.savefig(args.chart, dpi=110)
 
