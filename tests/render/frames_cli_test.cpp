@@ -56,6 +56,9 @@ TEST(FramesCli, SyncRunsGiveTheSameBytesAndTheStatsOfTheIssue) {
     EXPECT_EQ(stats["stages_ms"].size(), epi::render::kFrameStages.size() + 1);
     for (const epi::render::FrameStageInfo& i : epi::render::kFrameStages) EXPECT_TRUE(stats["stages_ms"].contains(i.name)) << i.name;
     EXPECT_TRUE(stats["stages_ms"].contains("total"));
+    // The insert's share of the points stage: every frame integrates results (sync), within points.
+    EXPECT_GT(stats["integrate_ms"].get<double>(), 0.0);
+    EXPECT_LE(stats["integrate_ms"].get<double>(), stats["stages_ms"]["points"].get<double>());
     for (const char* kind : {"silhouette", "sharp", "border", "shadow", "culled"}) EXPECT_TRUE(stats["edges"].contains(kind));
     const double fractions = stats["pixels"]["empty"].get<double>() + stats["pixels"]["simple"].get<double>() +
                              stats["pixels"]["complex"].get<double>();
