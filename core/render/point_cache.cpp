@@ -642,7 +642,7 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
                 const int32_t q = image_.point[image_.index(qx, qy)];
                 if (q >= 0) {
                   points_[size_t(q)].age = uint16_t(std::min(points_[size_t(q)].age + settings_.change_penalty, 0xffff));
-                  touch_slot(size_t(q));
+                  touch_slot(size_t(q));  // (implied today: a search asks only whether an age is 0)
                 }
               }
           }
@@ -661,7 +661,7 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
             search_ahead && !search_outdated(ahead) ? ahead.found : find_hidden(shot, r, world, object_to_world);
         if (hidden >= 0) {
           CachePoint& q = points_[size_t(hidden)];
-          touch_slot(size_t(hidden));
+          touch_slot(size_t(hidden));  // (implied today by its pixel's flag below, or by its slot's reuse)
           if (q.image_id >= 0 && winners_[size_t(q.image_id)] == hidden) {
             winners_[size_t(q.image_id)] = -1;
             touch_pixel(size_t(q.image_id));
