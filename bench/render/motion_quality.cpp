@@ -17,8 +17,19 @@
 // FrameSettings::sync_as_async: requests made for the view that chose them and shaded a frame
 // later, as the viewer's asynchronous loop does (deterministic). --no-trace-ahead turns
 // FrameSettings::trace_ahead off (requests traced through the camera that chose them).
+// --colours adds a second table: every drawn point's stored colour against its surface shaded
+// again from the last view (same seed), the points off by more than 0.1 (display luminance), and of
+// those, the ones the shader reports as mostly view-dependent (view share above 0.5: stale
+// highlights, faded or dropped as the view turns) and, of the rest, the ones the diffuse lobe's
+// Fresnel transmission explains: the shader weights the diffuse
+// lobe by 1 - F(n.v) (brdf.h), which depends on the eye but is not in ShadeResult::view_dependent,
+// so a point shaded at a grazing angle keeps a darker colour when seen face-on (docs/render.md,
+// "Diffuse transmission"). "Explained": T(n.v then) / T(n.v now) is off 1 by more than 0.1 and
+// the stored colour is within 0.05 of the fresh diffuse part scaled by it plus the stored
+// view-dependent part (T(c) = 1 - F(c), F0 = 0.04; n the geometric normal).
 // Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs LIST] [--reference-dir DIR]
-//        [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--times] [--out DIR] SCENE.gltf...
+//        [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--times]
+//        [--colours] [--out DIR] SCENE.gltf...
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -31,6 +42,7 @@
 #include "image_io.h"
 #include "load_scene.h"
 #include "render/camera_path.h"
+#include "render/point_cache_detail.h"
 #include "render/renderer.h"
 #include "shade/render_image.h"
 
@@ -48,6 +60,9 @@ struct Run {
   double rmse = 0, over01 = 0, over02 = 0;
   double points_ms = 0;  // median per frame of the points stage (FrameStage::points)
   size_t hidden = 0, colour = 0, near = 0, other = 0;
+  // --colours: drawn points (on an object, shaded again from the last view), off by more than 0.1,
+  // of those reported view-dependent, and of the rest explained by the diffuse lobe's Fresnel transmission.
+  size_t compared = 0, off = 0, transmission = 0, reported = 0;
 };
 
 struct Options {
@@ -63,7 +78,49 @@ struct Options {
   bool times = false;  // --times: a last column, the points stage's median ms per frame
   bool as_async = false;  // --as-async: FrameSettings::sync_as_async
   bool trace_ahead = true;  // --no-trace-ahead: FrameSettings::trace_ahead off
+  bool colours = false;     // --colours: the stored colours against fresh shading (the second table)
 };
+
+float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+// The share of light the diffuse lobe's interface lets out towards a direction at cosine c to the
+// normal (brdf.h's `transmitted`, one direction, dielectric F0).
+float diffuse_transmission(float c) {
+  const float m = std::clamp(1.0f - c, 0.0f, 1.0f);
+  return 1.0f - (0.04f + 0.96f * m * m * m * m * m);
+}
+
+// The drawn points' stored colours against their surfaces shaded again from `frame` (Run's --colours counts).
+void compare_colours(const PointCache& cache, const ViewFrame& frame, std::span<const glm::mat4> transforms,
+                     const Shader& shader, Run& r) {
+  const PointImage& drawn = cache.image();
+  std::vector<ShadeRequest> requests;
+  std::vector<uint32_t> slots;
+  for (const int32_t slot : drawn.point) {
+    if (slot < 0 || cache.points()[size_t(slot)].object == kNone) continue;
+    const Projection proj = frame.project(cache.world_position(cache.points()[size_t(slot)], frame, transforms));
+    requests.push_back({uint32_t(requests.size()), proj.pixel.x, proj.pixel.y});
+    slots.push_back(uint32_t(slot));
+  }
+  ShadeBatch fresh;
+  shader.shade(frame, requests, fresh);
+  for (const ShadeResult& now : fresh.results) {
+    const CachePoint& p = cache.points()[slots[now.id]];
+    const PointColour& c = cache.colours()[slots[now.id]];
+    if (!now.hit || now.object != p.object) continue;  // another surface in front: hidden, not a colour
+    ++r.compared;
+    const double stored = display(luminance(c.color));
+    if (std::abs(stored - display(luminance(now.color))) <= 0.1) continue;
+    ++r.off;
+    const glm::vec3 then_dir = detail::unpack_unit(p.view), now_dir = glm::normalize(frame.eye() - now.position);
+    const float ratio = diffuse_transmission(std::abs(glm::dot(now.normal, then_dir))) /
+                        std::max(1e-6f, diffuse_transmission(std::abs(glm::dot(now.normal, now_dir))));
+    const float predicted = luminance(now.color - now.view_dependent) * ratio + luminance(c.view_dependent);
+    if (p.view_share > 0.5f) ++r.reported;
+    else if (std::abs(ratio - 1.0f) > 0.1f && std::abs(stored - display(predicted)) < 0.05) ++r.transmission;
+  }
+}
+
 
 Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Options& o, bool still, RenderMode mode,
         const RgbImage& reference, const std::string& image_file) {
@@ -135,6 +192,7 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
       near ? mark(i, 1, 0, 1) : mark(i, 0, 0.3f, 1);
     }
   if (!image_file.empty()) write_image(image_file.substr(0, image_file.size() - 4) + "_causes.png", causes);
+  if (o.colours && mode == RenderMode::epi) compare_colours(cache, frame, transforms, shader, r);
   const double pixels = double(n) * double(n);
   r.rmse = std::sqrt(squared / (3.0 * pixels)), r.over01 *= 100.0 / pixels, r.over02 *= 100.0 / pixels;
   std::nth_element(points_ms.begin(), points_ms.begin() + ptrdiff_t(points_ms.size() / 2), points_ms.end());
@@ -170,17 +228,20 @@ int run_all(int argc, char** argv) {
     else if (a == "--times") o.times = true;
     else if (a == "--as-async") o.as_async = true;
     else if (a == "--no-trace-ahead") o.trace_ahead = false;
+    else if (a == "--colours") o.colours = true;
     else if (a.starts_with("-")) o.size = 0;  // unknown option (also --help): the usage line below
     else scenes.push_back(a);
   }
   if (scenes.empty() || o.size < 8 || o.frames < 1 || !(o.budget > 0.0 && o.budget <= 1.0)) {
-    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--times] [--out DIR] SCENE.gltf...\n");
+    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--times] [--colours] [--out DIR] SCENE.gltf...\n");
     return 2;
   }
   if (!o.out.empty()) std::filesystem::create_directories(o.out);
   std::printf("%dx%d, %d frames along the path, sync%s%s, budget %.3f, seed %llu, direct shader, reference %d spp\n", o.size,
               o.size, o.frames, o.as_async ? " as async" : "", o.trace_ahead ? "" : ", not traced ahead", o.budget, (unsigned long long)o.seed, o.spp);
   std::printf("| scene | run | RMSE | > 0.1 | > 0.2 | hidden | colour | near hidden | other |\n|---|---|---|---|---|---|---|---|---|\n");
+  std::vector<Run> colour_rows;
+  std::vector<std::string> colour_labels;
   for (const std::string& file : scenes) {
     const Scene scene = load_scene(file);
     RayScene ray_scene(scene);
@@ -210,11 +271,23 @@ int run_all(int argc, char** argv) {
       const std::string image_file = o.out.empty() ? "" : o.out + "/" + name + "_" + (k.mode == RenderMode::epi ? "epi" : "rc") +
                                                                (k.still ? "_still" : "_path") + ".png";
       const Run r = run(scene, ray_scene, shader, o, k.still, k.mode, reference, image_file);
+      if (o.colours && k.mode == RenderMode::epi) colour_rows.push_back(r), colour_labels.push_back(name + " | " + k.label);
       std::printf("| %s | %s | %.4f | %.2f %% | %.2f %% | %zu | %zu | %zu | %zu |", name.c_str(), k.label, r.rmse, r.over01,
                   r.over02, r.hidden, r.colour, r.near, r.other);
       if (o.times) std::printf(" %.2f |", r.points_ms);
       std::printf("\n");
       std::fflush(stdout);
+    }
+  }
+  if (o.colours) {
+    std::printf("\n| scene | run | drawn points compared | stored colour off > 0.1 | reported view-dependent | diffuse transmission | other |\n|---|---|---|---|---|---|---|\n");
+    for (size_t k = 0; k < colour_rows.size(); ++k) {
+      const Run& r = colour_rows[k];
+      const double off = std::max<double>(1.0, double(r.off));
+      const size_t other = r.off - r.reported - r.transmission;
+      std::printf("| %s | %zu | %zu (%.2f %%) | %zu (%.0f %%) | %zu (%.0f %%) | %zu (%.0f %%) |\n", colour_labels[k].c_str(), r.compared,
+                  r.off, 100.0 * double(r.off) / std::max<double>(1.0, double(r.compared)), r.reported,
+                  100.0 * double(r.reported) / off, r.transmission, 100.0 * double(r.transmission) / off, other, 100.0 * double(other) / off);
     }
   }
   return 0;
