@@ -44,6 +44,7 @@
 #include "render/camera_path.h"
 #include "render/point_cache_detail.h"
 #include "render/renderer.h"
+#include "shade/brdf.h"
 #include "shade/render_image.h"
 
 namespace {
@@ -85,10 +86,7 @@ float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0
 
 // The share of light the diffuse lobe's interface lets out towards a direction at cosine c to the
 // normal (brdf.h's `transmitted`, one direction, dielectric F0).
-float diffuse_transmission(float c) {
-  const float m = std::clamp(1.0f - c, 0.0f, 1.0f);
-  return 1.0f - (0.04f + 0.96f * m * m * m * m * m);
-}
+float diffuse_transmission(float c) { return 1.0f - schlick(glm::vec3(0.04f), c).x; }
 
 // The drawn points' stored colours against their surfaces shaded again from `frame` (Run's --colours counts).
 void compare_colours(const PointCache& cache, const ViewFrame& frame, std::span<const glm::mat4> transforms,
