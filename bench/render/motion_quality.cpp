@@ -17,14 +17,14 @@
 // FrameSettings::sync_as_async: requests made for the view that chose them and shaded a frame
 // later, as the viewer's asynchronous loop does (deterministic). --no-trace-ahead turns
 // FrameSettings::trace_ahead off (requests traced through the camera that chose them).
-// --colours adds a second table: every drawn point's stored colour against its surface shaded
-// again from the last view (same seed), the points off by more than 0.1 (display luminance), and of
+// --colours adds a second table: the colour the cache shows for every drawn point (before any
+// fade) against its surface shaded again from the last view (same seed), the points off by more than 0.1 (display luminance), and of
 // those, the ones the shader reports as mostly view-dependent (view share above 0.5: stale
 // highlights, faded or dropped as the view turns) and, of the rest, the ones the diffuse lobe's
 // Fresnel transmission explains: the shader weights the diffuse
-// lobe by 1 - F(n.v) (brdf.h), which depends on the eye but is not in ShadeResult::view_dependent,
-// so a point shaded at a grazing angle keeps a darker colour when seen face-on (docs/render.md,
-// "Diffuse transmission"). "Explained": T(n.v then) / T(n.v now) is off 1 by more than 0.1 and
+// lobe by 1 - F(n.v) (brdf.h), which depends on the eye but is not in ShadeResult::view_dependent:
+// a point shaded at a grazing angle showed a darker colour when seen face-on until the cache
+// rescaled its diffuse part with the view (docs/render.md, "Diffuse transmission"). "Explained": T(n.v then) / T(n.v now) is off 1 by more than 0.1 and
 // the stored colour is within 0.05 of the fresh diffuse part scaled by it plus the stored
 // view-dependent part (T(c) = 1 - F(c), F0 = 0.04; n the geometric normal).
 // Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs LIST] [--reference-dir DIR]
@@ -84,10 +84,6 @@ struct Options {
 
 float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
-// The share of light the diffuse lobe's interface lets out towards a direction at cosine c to the
-// normal (brdf.h's `transmitted`, one direction, dielectric F0).
-float diffuse_transmission(float c) { return 1.0f - schlick(glm::vec3(0.04f), c).x; }
-
 // The drawn points' stored colours against their surfaces shaded again from `frame` (Run's --colours counts).
 void compare_colours(const PointCache& cache, const ViewFrame& frame, std::span<const glm::mat4> transforms,
                      const Shader& shader, Run& r) {
@@ -107,10 +103,14 @@ void compare_colours(const PointCache& cache, const ViewFrame& frame, std::span<
     const PointColour& c = cache.colours()[slots[now.id]];
     if (!now.hit || now.object != p.object) continue;  // another surface in front: hidden, not a colour
     ++r.compared;
-    const double stored = display(luminance(c.color));
+    // What the cache shows now (before any fade): a rescaled point's diffuse part times this view's
+    // transmission about the geometric normal, as PointCache::transmission_now takes it.
+    const glm::vec3 then_dir = detail::unpack_unit(p.view), now_dir = glm::normalize(frame.eye() - now.position);
+    const glm::vec3 shown = p.srgb >> 24 ? (c.color - c.view_dependent) * diffuse_transmission(glm::dot(now.normal, now_dir)) + c.view_dependent
+                                         : c.color;
+    const double stored = display(luminance(shown));
     if (std::abs(stored - display(luminance(now.color))) <= 0.1) continue;
     ++r.off;
-    const glm::vec3 then_dir = detail::unpack_unit(p.view), now_dir = glm::normalize(frame.eye() - now.position);
     const float ratio = diffuse_transmission(std::abs(glm::dot(now.normal, then_dir))) /
                         std::max(1e-6f, diffuse_transmission(std::abs(glm::dot(now.normal, now_dir))));
     const float predicted = luminance(now.color - now.view_dependent) * ratio + luminance(c.view_dependent);
@@ -278,7 +278,7 @@ int run_all(int argc, char** argv) {
     }
   }
   if (o.colours) {
-    std::printf("\n| scene | run | drawn points compared | stored colour off > 0.1 | reported view-dependent | diffuse transmission | other |\n|---|---|---|---|---|---|---|\n");
+    std::printf("\n| scene | run | drawn points compared | colour shown off > 0.1 | reported view-dependent | diffuse transmission | other |\n|---|---|---|---|---|---|---|\n");
     for (size_t k = 0; k < colour_rows.size(); ++k) {
       const Run& r = colour_rows[k];
       const double off = std::max<double>(1.0, double(r.off));

@@ -3,6 +3,7 @@
 #include "render/depth_windows.h"
 #include "render/point_cache_detail.h"
 #include "render/point_projection.h"
+#include "shade/brdf.h"
 
 #include <algorithm>
 #include <array>
@@ -151,7 +152,11 @@ PointCache::ColourTerms PointCache::colour_terms(const PointColour& c) const {
 }
 
 void PointCache::update_from_colour(CachePoint& p, const PointColour& c) const {
-  p.srgb = pack_srgb(c.color, c.view_dependent);
+  // The colour as seen from the shading view: the diffuse part (kept divided by that view's
+  // transmission, docs/render.md "Diffuse transmission") times it again.
+  const uint32_t then = p.srgb >> 24;
+  const glm::vec3 seen = then > 0 ? (c.color - c.view_dependent) * (float(then) / 255.0f) + c.view_dependent : c.color;
+  p.srgb = pack_srgb(seen, c.view_dependent) | then << 24;
   const ColourTerms terms = colour_terms(c);
   p.view_share = terms.view_share, p.priority_factor = terms.priority_factor;
 }
@@ -253,7 +258,8 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
         p.image_id = int32_t(uint32_t(py) * uint32_t(w) + uint32_t(px));
         const uint32_t tile = uint32_t(py / kTileHeight) * uint32_t(tiles_x) + uint32_t(px / kTileWidth);
-        projected_[i] = {zkey(proj.depth, rx + 4 * ry, uint32_t(i)), epi_color_word(i),
+        const float transmission = p.srgb >> 24 ? diffuse_transmission(batch.facing_cosine[k]) : 1.0f;
+        projected_[i] = {zkey(proj.depth, rx + 4 * ry, uint32_t(i)), epi_color_word(i, transmission),
                          uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p, p.view_share) ? kShowsNothing : 0)),
                          uint16_t(py % kTileHeight * kTileWidth + px % kTileWidth)};
         point_tile_[i] = tile;
@@ -529,6 +535,14 @@ void PointCache::prepare_result(const ViewFrame& shot, const ShadeResult& r, std
   colour.color = glm::max(r.color, glm::vec3(0.0f));
   colour.view_dependent = glm::clamp(r.view_dependent, glm::vec3(0.0f), colour.color);
   colour.epoch = epoch;
+  // The diffuse part is kept divided by the shading view's transmission (its byte in srgb, at
+  // least 13/255: nearer grazing the division would amplify what the shading normal and the
+  // geometric one disagree on), so that results from different views average to one quantity.
+  if (r.hit && r.object < object_to_world.size() && r.diffuse_transmission > 0.0f) {
+    const uint32_t then = uint32_t(std::clamp(std::lround(r.diffuse_transmission * 255.0f), 13l, 255l));
+    point.srgb = then << 24;
+    colour.color = colour.view_dependent + (colour.color - colour.view_dependent) / (float(then) / 255.0f);
+  }
   update_from_colour(point, colour);
   point.lobe_width = r.hit ? r.lobe_width : 0.0f;
   point.view = r.hit ? pack_unit(shot.eye() - r.position) : 0;
@@ -984,12 +998,19 @@ size_t PointCache::remove_listed() {
   return removed;
 }
 
-uint32_t PointCache::faded_srgb(const CachePoint& p, const PointColour& c, bool by_steps) const {
+uint32_t PointCache::faded_srgb(const CachePoint& p, const PointColour& c, float transmission_now, bool by_steps) const {
   const float staleness = float(p.staleness) / 16.0f;
   const float fade = std::clamp((staleness - settings_.view_fade_start) /
                                     std::max(settings_.view_fade_end - settings_.view_fade_start, 1e-3f), 0.0f, 1.0f);
-  const glm::vec3 shown = c.color - c.view_dependent * fade, shown_view = c.view_dependent * (1.0f - fade);
+  const glm::vec3 shown_view = c.view_dependent * (1.0f - fade);
+  const glm::vec3 shown = p.srgb >> 24 ? (c.color - c.view_dependent) * transmission_now + shown_view
+                                       : c.color - c.view_dependent * fade;
   return by_steps ? pack_srgb_by_steps(shown, shown_view) : pack_srgb(shown, shown_view);
+}
+
+float PointCache::transmission_now(const CachePoint& p) const {
+  if (p.normal == 0 || p.object >= eye_local_.size()) return 1.0f;
+  return diffuse_transmission(facing_cosine(p.normal, eye_local_[p.object] - p.local));
 }
 
 void PointCache::fill_epi(EpiImage& epi) const {
@@ -1019,7 +1040,7 @@ void PointCache::fill_epi(EpiImage& epi) const {
         continue;
       }
       epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
-      epi.color[i] = epi_color_word(size_t(p));
+      epi.color[i] = epi_color_word(size_t(p), transmission_now(points_[size_t(p)]));
     }
   });
 }

@@ -44,6 +44,12 @@ inline bool faces_away(uint32_t normal, const glm::vec3& to_eye) {
   return normal != 0 && glm::dot(unpack_unit(normal), to_eye) < 0.0f;
 }
 
+// The cosine between a packed normal and the direction to the eye (to_eye: from the point to the
+// eye, in the normal's space, not normalized), in project_batch's order of operations.
+inline float facing_cosine(uint32_t normal, const glm::vec3& to_eye) {
+  return glm::dot(unpack_unit(normal), to_eye) / std::sqrt(glm::dot(to_eye, to_eye));
+}
+
 // lround(min(16 acos(cosine) / width, 255)): a view's turn in 1/16 lobe widths (the staleness of
 // view-dependent shading), without acos where a polynomial settles it. acos(|x|) =
 // sqrt(1 - |x|) (a0 + a1 |x| + a2 |x|^2 + a3 |x|^3) within 5e-5 (Abramowitz and Stegun 4.4.45;

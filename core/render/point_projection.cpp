@@ -93,6 +93,8 @@ void ProjectBatch(const Constants& c, ProjectionBatch& b, size_t n) {
     const auto facing = Dot(nx, ny, nz, hn::Load(d, b.eye_x + i), hn::Load(d, b.eye_y + i), hn::Load(d, b.eye_z + i));
     const auto away = hn::AndNot(hn::RebindMask(d, hn::Eq(normal, hn::Zero(du))), hn::Lt(facing, zero));
     hn::Store(hn::IfThenElseZero(hn::RebindMask(di, away), hn::Set(di, 1)), di, b.back_facing + i);
+    const auto ex = hn::Load(d, b.eye_x + i), ey = hn::Load(d, b.eye_y + i), ez = hn::Load(d, b.eye_z + i);
+    hn::Store(hn::Div(facing, hn::Sqrt(Dot(ex, ey, ez, ex, ey, ez))), d, b.facing_cosine + i);
   }
 }
 

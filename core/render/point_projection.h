@@ -41,6 +41,7 @@ struct ProjectionBatch {
   alignas(64) float depth[kSize], pixel_x[kSize], pixel_y[kSize];
   alignas(64) int32_t staleness[kSize];
   alignas(64) int32_t back_facing[kSize];  // detail::faces_away: 1 or 0
+  alignas(64) float facing_cosine[kSize];  // detail::facing_cosine (points with a normal)
 };
 
 // Fills the outputs of the first n entries of the batch (n <= kSize); the inputs must be set up

@@ -441,7 +441,8 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
     const bool glossy_rays = settings_.kind == ShaderKind::glossy && settings_.specular && settings_.glossy_samples > 0;
     const BrdfValue direct = tracer.direct_lobes(s, settings_.area_light_samples, key, nullptr,
                                                  glossy_rays ? settings_.glossy_samples : 0, true);
-    glm::vec3 color = tracer.emitted(s) + direct.sum();
+    const glm::vec3 emitted = tracer.emitted(s);
+    glm::vec3 color = emitted + direct.sum();
     glm::vec3 view_dependent = direct.specular;
     tracer.triples = nullptr;  // triples come from the primary hit's shadow rays only
     if (settings_.kind == ShaderKind::glossy) {
@@ -456,6 +457,9 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
     }
     result.view_dependent = view_dependent;
     result.lobe_width = settings_.specular ? BrdfParams::from(*s.material, true).alpha : 0.0f;
+    const bool emits = emitted.x > 0.0f || emitted.y > 0.0f || emitted.z > 0.0f;
+    result.diffuse_transmission =
+        settings_.specular && !emits ? diffuse_transmission(glm::dot(s.geometric_normal, s.wo)) : 0.0f;
     result.hit = true;
     result.object = s.object;
     result.triangle = s.triangle;

@@ -57,6 +57,10 @@ struct ShadeResult {
   // lobe: direct specular, glossy reflection, gi paths that started in the specular lobe).
   glm::vec3 view_dependent{0.0f};
   float lobe_width = 0.0f;    // the specular lobe's width at the hit (GGX alpha, ~radians); 0: none
+  // diffuse_transmission (brdf.h) towards the eye at the hit, about the geometric normal: the
+  // factor by which the diffuse part of color depends on the view; 0 where color must not be
+  // rescaled with the view (misses, emitters, whose emission does not pass the interface).
+  float diffuse_transmission = 0.0f;
   uint32_t triple_begin = 0;  // into ShadeBatch::triples
   uint32_t triple_count = 0;
 };

@@ -167,6 +167,7 @@ TEST(PointCacheFastPath, RandomCloudsMatchTheReferenceBitForBit) {
             r.position = ray.origin + ray.direction * (2.0f + 4.0f * u(rng));
             r.normal = glm::normalize(glm::vec3(u(rng) - 0.5f, u(rng) - 0.5f, 1.0f));
             r.lobe_width = u(rng) < 0.5f ? 0.1f * u(rng) : 0.0f;
+            r.diffuse_transmission = u(rng) < 0.7f ? u(rng) : 0.0f;  // rescaled with the view, or not
           }
           r.color = glm::vec3(u(rng), u(rng), u(rng));
           r.view_dependent = r.color * u(rng);

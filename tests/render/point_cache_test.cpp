@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "render/point_cache.h"
+#include "shade/brdf.h"
 
 namespace epi::render {
 namespace {
@@ -321,6 +322,46 @@ TEST(PointCache, ViewDependentPointsGoStaleWithTheTurnOfTheViewAndDiffuseOnesDoN
     const float shown = epi_color8_to_linear()[gc & 0xff];
     EXPECT_NEAR(shown, 1.0f - 0.9f * fade, 0.05f) << turn;  // staleness in 1/16 widths, colour in 8 bits
   }
+}
+
+// A glossy dielectric shaded at a grazing angle and then seen face-on: its diffuse part is shown
+// times the face-on view's transmission, not the grazing one's (which would show a fifth of it:
+// the dark dots of docs/render.md, "Diffuse transmission"); an emitter's colour (transmission 0)
+// is shown as shaded; the reference path shows the same words.
+TEST(PointCache, DiffusePartIsShownWithTheCurrentViewsTransmission) {
+  const int w = 16, h = 16;
+  const float grazing = std::acos(0.06f);
+  const ViewFrame shot(view_of(camera_at({10.0f * std::sin(grazing), 0, 10.0f * std::cos(grazing)}, {0, 0, 0}), w, h));
+  const ViewFrame face_on(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  const float albedo_light = 0.5f;  // the diffuse light before the interface lets it out
+  ShadeBatch batch;
+  ShadeResult plastic = plane_hit(shot, 8.0f, 8.0f, 0.0f, 0, glm::vec3(0.0f));
+  const float then = diffuse_transmission(glm::dot(plastic.normal, glm::normalize(shot.eye() - plastic.position)));
+  ASSERT_LT(then, 0.3f);
+  plastic.color = glm::vec3(albedo_light * then), plastic.diffuse_transmission = then, plastic.lobe_width = 0.3f;
+  ShadeResult lamp = plane_hit(shot, 8.0f, 11.0f, 0.0f, 0, glm::vec3(0.4f));  // emitter: not rescaled
+  batch.results = {plastic, lamp};
+  uint32_t words[2][2];
+  for (const bool reference : {false, true}) {
+    PointCacheSettings settings;
+    settings.reference_path = reference;
+    PointCache cache(w, h, settings);
+    cache.insert(shot, batch, kIdentity);
+    cache.project(face_on, kIdentity);
+    EpiImage epi(w, h);
+    cache.fill_epi(epi);
+    for (int k = 0; k < 2; ++k) {
+      const CachePoint& p = cache.points()[size_t(k)];
+      ASSERT_TRUE(p.valid && p.image_id >= 0) << k;
+      ASSERT_TRUE(has_sample(epi.edge[size_t(p.image_id)])) << k;
+      words[reference][k] = epi.color[size_t(p.image_id)];
+    }
+    const float now = diffuse_transmission(glm::dot(plastic.normal, glm::normalize(face_on.eye() - plastic.position)));
+    EXPECT_NEAR(epi_color8_to_linear()[words[reference][0] & 0xff], albedo_light * now, 0.03f * albedo_light) << reference;
+    EXPECT_EQ(words[reference][1] & 0xffffffu, encode_epi_color8(0.4f) * 0x010101u) << reference;
+  }
+  EXPECT_EQ(words[0][0], words[1][0]);
+  EXPECT_EQ(words[0][1], words[1][1]);
 }
 
 // Past the fade, a point that is mostly reflection is dropped from the EPI, one that is mostly
