@@ -82,8 +82,6 @@ struct Options {
   bool colours = false;     // --colours: the stored colours against fresh shading (the second table)
 };
 
-float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
-
 // The drawn points' stored colours against their surfaces shaded again from `frame` (Run's --colours counts).
 void compare_colours(const PointCache& cache, const ViewFrame& frame, std::span<const glm::mat4> transforms,
                      const Shader& shader, Run& r) {
@@ -108,12 +106,12 @@ void compare_colours(const PointCache& cache, const ViewFrame& frame, std::span<
     const glm::vec3 then_dir = detail::unpack_unit(p.view), now_dir = glm::normalize(frame.eye() - now.position);
     const glm::vec3 shown = p.srgb >> 24 ? (c.color - c.view_dependent) * diffuse_transmission(glm::dot(now.normal, now_dir)) + c.view_dependent
                                          : c.color;
-    const double stored = display(luminance(shown));
-    if (std::abs(stored - display(luminance(now.color))) <= 0.1) continue;
+    const double stored = display(rgb_luminance(shown));
+    if (std::abs(stored - display(rgb_luminance(now.color))) <= 0.1) continue;
     ++r.off;
     const float ratio = diffuse_transmission(std::abs(glm::dot(now.normal, then_dir))) /
                         std::max(1e-6f, diffuse_transmission(std::abs(glm::dot(now.normal, now_dir))));
-    const float predicted = luminance(now.color - now.view_dependent) * ratio + luminance(c.view_dependent);
+    const float predicted = rgb_luminance(now.color - now.view_dependent) * ratio + rgb_luminance(c.view_dependent);
     if (p.view_share > 0.5f) ++r.reported;
     else if (std::abs(ratio - 1.0f) > 0.1f && std::abs(stored - display(predicted)) < 0.05) ++r.transmission;
   }

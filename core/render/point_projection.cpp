@@ -90,10 +90,11 @@ void ProjectBatch(const Constants& c, ProjectionBatch& b, size_t n) {
     const auto normal = hn::Load(du, b.normal + i);
     hn::Vec<decltype(d)> nx, ny, nz;
     UnpackUnit(d, normal, nx, ny, nz);
-    const auto facing = Dot(nx, ny, nz, hn::Load(d, b.eye_x + i), hn::Load(d, b.eye_y + i), hn::Load(d, b.eye_z + i));
+    const auto ex = hn::Load(d, b.eye_x + i), ey = hn::Load(d, b.eye_y + i), ez = hn::Load(d, b.eye_z + i);
+    const auto facing = Dot(nx, ny, nz, ex, ey, ez);
     const auto away = hn::AndNot(hn::RebindMask(d, hn::Eq(normal, hn::Zero(du))), hn::Lt(facing, zero));
     hn::Store(hn::IfThenElseZero(hn::RebindMask(di, away), hn::Set(di, 1)), di, b.back_facing + i);
-    const auto ex = hn::Load(d, b.eye_x + i), ey = hn::Load(d, b.eye_y + i), ez = hn::Load(d, b.eye_z + i);
+    // detail::facing_cosine.
     hn::Store(hn::Div(facing, hn::Sqrt(Dot(ex, ey, ez, ex, ey, ez))), d, b.facing_cosine + i);
   }
 }
