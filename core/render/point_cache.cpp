@@ -31,7 +31,7 @@ constexpr size_t kPointBlock = 16384;
 // The projection's tiles (a z-buffer of 4096 pixels each, in L1/L2): wide and short, so that the
 // unpacking writes long runs of each image plane (256 x 16: the projection 1.07-1.11x faster
 // than 64 x 64 at 1080p; docs/performance.md, "Point processing").
-constexpr int kTileWidth = 256, kTileHeight = 16, kBandRows = 8;
+constexpr int kTileWidth = TileLayout::kWidth, kTileHeight = TileLayout::kHeight, kBandRows = 8;
 constexpr uint32_t kNoTile = ~uint32_t(0);  // a point not drawn this frame
 constexpr uint16_t kShowsNothing = 0x8000;     // age bin flag: shows_nothing (fill_epi leaves the pixel empty)
 
@@ -179,13 +179,12 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   const int w = image_.width, h = image_.height;
   if (frame.view().width != w || frame.view().height != h)
     throw std::invalid_argument("point cache: view size differs from the cache's image size");
-  const float znear = std::max(frame.view().camera.znear, 0.0f);
   const int max_age = settings_.max_age;
   // The eye in each object's space: a point's stored normal faces the eye it was shaded from, and
   // a point whose surface now faces away from the eye is not drawn (back_facing).
   eye_local_.resize(object_to_world.size());
   for (size_t o = 0; o < object_to_world.size(); ++o) eye_local_[o] = glm::vec3(glm::inverse(object_to_world[o]) * glm::vec4(frame.eye(), 1.0f));
-  const int tiles_x = (w + kTileWidth - 1) / kTileWidth, tiles_y = (h + kTileHeight - 1) / kTileHeight;
+  const int tiles_x = TileLayout::columns(w), tiles_y = (h + kTileHeight - 1) / kTileHeight;
   const size_t tiles = size_t(tiles_x) * size_t(tiles_y);
   // The batches' inputs are gathered from the cloud's words (gather_batch; the layout it assumes:)
   static_assert(sizeof(CachePoint) == 4 * CloudLayout::kWords && offsetof(CachePoint, local) == 4 * CloudLayout::kLocal &&
@@ -209,8 +208,9 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     block.free.clear();
     block.tile_count.assign(tiles, 0);
     // In batches: the valid points' slots listed, their world positions and the rest of the
-    // projection's inputs gathered (gather_batch, vectors), the projections, the staleness and the
-    // back-face test (project_batch, vectors), then the rest, ages first (scalar), then the free
+    // projection's inputs gathered (gather_batch, vectors), the projections, where they land
+    // (pixel, tile, sub-pixel region), the staleness, the back-face test and the diffuse
+    // transmission (project_batch, vectors), then the rest, ages first (scalar), then the free
     // slots listed. Valid and free slots alternate at random: the listings are branch-free, and
     // the passes between see valid points only.
     ProjectionBatch batch;
@@ -238,30 +238,26 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         p.staleness = !view_dependent(p, p.view_share) ? uint8_t(0)
                       : batch.staleness[k] >= 0                ? uint8_t(batch.staleness[k])
                                                                : view_staleness(p, p.view_share, frame.eye() - world);
-        Projection proj;
-        proj.depth = batch.depth[k], proj.pixel = glm::vec2(batch.pixel_x[k], batch.pixel_y[k]);
-        const bool inside = in_view_or_penalised(p, proj, znear);
+        const int32_t pixel = batch.pixel[k];  // place(): -1 outside the view
+        if (pixel < 0) penalise_offscreen(p);
         if (p.age > max_age) {
           p.valid = false, p.image_id = -1;
           ++expired;
           continue;
         }
         ++ages[kAgeBins - 1];  // as not drawn; the drawn ones move to their age's bin after the cull
-        if (!inside) continue;
+        if (pixel < 0) continue;
         if (batch.back_facing[k]) {
           p.image_id = -1;
           ++back_facing_points;
           continue;
         }
-        const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
-        const int rx = std::min(3, int((proj.pixel.x - float(px)) * 4.0f));
-        const int ry = std::min(3, int((proj.pixel.y - float(py)) * 4.0f));
-        p.image_id = int32_t(uint32_t(py) * uint32_t(w) + uint32_t(px));
-        const uint32_t tile = uint32_t(py / kTileHeight) * uint32_t(tiles_x) + uint32_t(px / kTileWidth);
-        const float transmission = p.srgb >> 24 ? diffuse_transmission(batch.facing_cosine[k]) : 1.0f;
-        projected_[i] = {zkey(proj.depth, rx + 4 * ry, uint32_t(i)), epi_color_word(i, transmission),
+        p.image_id = pixel;
+        const uint32_t tile = batch.tile[k], spot = batch.spot[k];
+        const float transmission = p.srgb >> 24 ? batch.transmission[k] : 1.0f;
+        projected_[i] = {zkey(batch.depth[k], int(spot >> 16), uint32_t(i)), epi_color_word(i, transmission),
                          uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p, p.view_share) ? kShowsNothing : 0)),
-                         uint16_t(py % kTileHeight * kTileWidth + px % kTileWidth)};
+                         uint16_t(spot)};
         point_tile_[i] = tile;
         ++block.tile_count[tile];
         ++projected;

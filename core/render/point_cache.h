@@ -293,16 +293,18 @@ class PointCache {
   // The reference path (PointCacheSettings::reference_path).
   ProjectionCounts project_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull);
   size_t depth_cull_reference(std::span<const uint8_t> edge_pixels);
-  // Both paths: whether a projection lands in the image (in front of the near plane), ageing p by
-  // the off-screen penalty when it does not.
+  // The reference path: whether a projection lands in the image (in front of the near plane),
+  // ageing p by the off-screen penalty when it does not (the fast path: place(), project_batch).
   bool in_view_or_penalised(CachePoint& p, const Projection& proj, float znear) const {
     const bool inside = proj.depth > znear && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f &&
                         proj.pixel.x < float(image_.width) && proj.pixel.y < float(image_.height);
-    if (!inside) {
-      p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
-      p.image_id = -1;
-    }
+    if (!inside) penalise_offscreen(p);
     return inside;
+  }
+  // A point outside the view: older by the off-screen penalty, at no pixel.
+  void penalise_offscreen(CachePoint& p) const {
+    p.age = uint16_t(std::min(p.age + settings_.offscreen_penalty, 0xffff));
+    p.image_id = -1;
   }
   // Both paths: whether (x, y) is within a pixel of a depth edge (the depth cull leaves it alone).
   bool near_depth_edge(std::span<const uint8_t> edge_pixels, int x, int y) const;

@@ -2,6 +2,7 @@
 // once per target).
 #include "render/point_projection.h"
 
+#include <algorithm>
 #include <cstddef>
 
 #undef HWY_TARGET_INCLUDE
@@ -15,7 +16,8 @@ namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
 struct Constants {
-  float eye[3], forward[3], right[3], up[3], half_width, half_height, width, height;
+  float eye[3], forward[3], right[3], up[3], half_width, half_height, width, height, znear;
+  int32_t image_width, image_height, tile_columns;
 };
 
 // a.x * b.x + a.y * b.y + a.z * b.z, added left to right (glm::dot).
@@ -42,6 +44,33 @@ HWY_INLINE void UnpackUnit(D d, VU packed, hn::Vec<D>& nx, hn::Vec<D>& ny, hn::V
   nx = hn::Mul(x, inverse), ny = hn::Mul(y, inverse), nz = hn::Mul(z, inverse);
 }
 
+// place(), a vector of entries at a time from entry i.
+template <class V>
+HWY_INLINE void Place(const Constants& c, V depth, V pixel_x, V pixel_y, ProjectionBatch& b, size_t i) {
+  const hn::DFromV<V> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  const auto zero = hn::Zero(d);
+  const auto inside = hn::And(hn::And(hn::Gt(depth, hn::Set(d, c.znear)), hn::And(hn::Ge(pixel_x, zero), hn::Ge(pixel_y, zero))),
+                              hn::And(hn::Lt(pixel_x, hn::Set(d, c.width)), hn::Lt(pixel_y, hn::Set(d, c.height))));
+  const auto in = hn::RebindMask(di, inside);
+  // Lanes outside the view convert whatever they hold (masked below).
+  const auto px = hn::Min(hn::ConvertTo(di, pixel_x), hn::Set(di, c.image_width - 1));
+  const auto py = hn::Min(hn::ConvertTo(di, pixel_y), hn::Set(di, c.image_height - 1));
+  const auto three = hn::Set(di, 3), four = hn::Set(d, 4.0f);
+  const auto rx = hn::Min(three, hn::ConvertTo(di, hn::Mul(hn::Sub(pixel_x, hn::ConvertTo(d, px)), four)));
+  const auto ry = hn::Min(three, hn::ConvertTo(di, hn::Mul(hn::Sub(pixel_y, hn::ConvertTo(d, py)), four)));
+  const auto pixel = hn::Add(hn::Mul(py, hn::Set(di, c.image_width)), px);
+  const auto tile = hn::Add(hn::Mul(hn::ShiftRight<TileLayout::kHeightShift>(py), hn::Set(di, c.tile_columns)),
+                            hn::ShiftRight<TileLayout::kWidthShift>(px));
+  const auto within = hn::Add(hn::ShiftLeft<TileLayout::kWidthShift>(hn::And(py, hn::Set(di, TileLayout::kHeight - 1))),
+                              hn::And(px, hn::Set(di, TileLayout::kWidth - 1)));
+  const auto spot = hn::Or(within, hn::ShiftLeft<16>(hn::Add(rx, hn::ShiftLeft<2>(ry))));
+  const hn::RebindToUnsigned<decltype(d)> du;
+  hn::Store(hn::IfThenElse(in, pixel, hn::Set(di, -1)), di, b.pixel + i);
+  hn::Store(hn::BitCast(du, hn::IfThenElseZero(in, tile)), du, b.tile + i);
+  hn::Store(hn::BitCast(du, hn::IfThenElseZero(in, spot)), du, b.spot + i);
+}
+
 void ProjectBatch(const Constants& c, ProjectionBatch& b, size_t n) {
   const hn::ScalableTag<float> d;
   const hn::RebindToSigned<decltype(d)> di;
@@ -56,9 +85,12 @@ void ProjectBatch(const Constants& c, ProjectionBatch& b, size_t n) {
                             hn::Mul(depth, hn::Set(d, c.half_width)));
     const auto sy = hn::Div(Dot(rx, ry, rz, hn::Set(d, c.up[0]), hn::Set(d, c.up[1]), hn::Set(d, c.up[2])),
                             hn::Mul(depth, hn::Set(d, c.half_height)));
+    const auto pixel_x = hn::Mul(hn::Mul(hn::Add(sx, one), half), hn::Set(d, c.width));
+    const auto pixel_y = hn::Mul(hn::Mul(hn::Sub(one, sy), half), hn::Set(d, c.height));
     hn::Store(depth, d, b.depth + i);
-    hn::Store(hn::Mul(hn::Mul(hn::Add(sx, one), half), hn::Set(d, c.width)), d, b.pixel_x + i);
-    hn::Store(hn::Mul(hn::Mul(hn::Sub(one, sy), half), hn::Set(d, c.height)), d, b.pixel_y + i);
+    hn::Store(pixel_x, d, b.pixel_x + i);
+    hn::Store(pixel_y, d, b.pixel_y + i);
+    Place(c, depth, pixel_x, pixel_y, b, i);
     // PointCache::view_staleness: the cosine of the turn, as it computes it.
     const auto tx = hn::Sub(hn::Set(d, c.eye[0]), wx), ty = hn::Sub(hn::Set(d, c.eye[1]), wy), tz = hn::Sub(hn::Set(d, c.eye[2]), wz);
     const auto length = hn::Sqrt(Dot(tx, ty, tz, tx, ty, tz));
@@ -94,8 +126,15 @@ void ProjectBatch(const Constants& c, ProjectionBatch& b, size_t n) {
     const auto facing = Dot(nx, ny, nz, ex, ey, ez);
     const auto away = hn::AndNot(hn::RebindMask(d, hn::Eq(normal, hn::Zero(du))), hn::Lt(facing, zero));
     hn::Store(hn::IfThenElseZero(hn::RebindMask(di, away), hn::Set(di, 1)), di, b.back_facing + i);
-    // detail::facing_cosine.
-    hn::Store(hn::Div(facing, hn::Sqrt(Dot(ex, ey, ez, ex, ey, ez))), d, b.facing_cosine + i);
+    // detail::facing_cosine, then diffuse_transmission (brdf.h): 1 - schlick(0.04, cosine).x,
+    // with std::clamp's choices.
+    const auto cosine_facing = hn::Div(facing, hn::Sqrt(Dot(ex, ey, ez, ex, ey, ez)));
+    hn::Store(cosine_facing, d, b.facing_cosine + i);
+    const auto m_raw = hn::Sub(one, cosine_facing);
+    const auto m = hn::IfThenElse(hn::Lt(m_raw, zero), zero, hn::IfThenElse(hn::Lt(one, m_raw), one, m_raw));
+    const auto m5 = hn::Mul(hn::Mul(hn::Mul(m, m), hn::Mul(m, m)), m);
+    const auto f0 = hn::Set(d, 0.04f);
+    hn::Store(hn::Sub(one, hn::Add(f0, hn::Mul(hn::Sub(one, f0), m5))), d, b.transmission + i);
   }
 }
 
@@ -106,6 +145,9 @@ void ProjectBatchFrame(const ViewFrame& frame, ProjectionBatch& batch, size_t n)
     c.eye[k] = frame.eye()[k], c.forward[k] = frame.forward()[k], c.right[k] = frame.right()[k], c.up[k] = frame.up()[k];
   c.half_width = frame.half_width(), c.half_height = frame.half_height();
   c.width = float(frame.view().width), c.height = float(frame.view().height);
+  c.znear = std::max(frame.view().camera.znear, 0.0f);
+  c.image_width = frame.view().width, c.image_height = frame.view().height;
+  c.tile_columns = TileLayout::columns(frame.view().width);
   ProjectBatch(c, batch, n);
 }
 

@@ -1,9 +1,10 @@
 // The point cache's projection kernels (issue 11), with Highway (dynamic dispatch, every target
 // Highway builds):
-// - project_batch: world positions to depth and pixel position, the view staleness of
-//   view-dependent points and whether a point's surface faces away from the eye, for a batch of
-//   points at once. The same operations in the same order as ViewFrame::project,
-//   PointCache::view_staleness and detail::faces_away, without fused multiply-add
+// - project_batch: world positions to depth and pixel position, where that lands in the image's
+//   tiles, the view staleness of view-dependent points, whether a point's surface faces away from
+//   the eye and the diffuse transmission towards it, for a batch of points at once. The same
+//   operations in the same order as ViewFrame::project, place, PointCache::view_staleness,
+//   detail::faces_away and brdf.h's diffuse_transmission, without fused multiply-add
 //   (-ffp-contract=off): bit-identical results (tests/render/point_projection_test.cpp).
 // - gather_batch: a batch's inputs from the cloud (positions placed in the world by their
 //   object's transform, the eye in the object's space), as gather_input does one point.
@@ -24,6 +25,33 @@
 
 namespace epi::render {
 
+// The point cache's z-buffer tiles (PointCache::project): a tile owns kWidth x kHeight pixels.
+struct TileLayout {
+  static constexpr int kWidth = 256, kHeight = 16;
+  static constexpr int kWidthShift = 8, kHeightShift = 4;
+  static_assert(kWidth == 1 << kWidthShift && kHeight == 1 << kHeightShift);
+  static int columns(int image_width) { return (image_width + kWidth - 1) / kWidth; }
+};
+
+// Where a projection lands in a width x height image of such tiles: the pixel index y width + x
+// where it lies in the view (depth beyond znear, pixel inside the image; -1 elsewhere), its tile,
+// and its spot: the pixel within the tile (bits 0-15) and the sub-pixel region rx + 4 ry on the
+// 4x4 grid (bits 16-19); tile and spot 0 outside the view.
+struct Placement {
+  int32_t pixel;
+  uint32_t tile, spot;
+};
+inline Placement place(float depth, float pixel_x, float pixel_y, int width, int height, float znear) {
+  const bool inside = depth > znear && pixel_x >= 0.0f && pixel_y >= 0.0f && pixel_x < float(width) && pixel_y < float(height);
+  if (!inside) return {-1, 0, 0};
+  const int px = std::min(width - 1, int(pixel_x)), py = std::min(height - 1, int(pixel_y));
+  const int rx = std::min(3, int((pixel_x - float(px)) * 4.0f));
+  const int ry = std::min(3, int((pixel_y - float(py)) * 4.0f));
+  return {py * width + px,
+          uint32_t(py / TileLayout::kHeight * TileLayout::columns(width) + px / TileLayout::kWidth),
+          uint32_t(py % TileLayout::kHeight * TileLayout::kWidth + px % TileLayout::kWidth) | uint32_t(rx + 4 * ry) << 16};
+}
+
 struct ProjectionBatch {
   static constexpr size_t kSize = 256;  // a multiple of every target's lane count
   // In: world position, the packed direction to the eye the point was shaded from (octahedral,
@@ -42,6 +70,10 @@ struct ProjectionBatch {
   alignas(64) int32_t staleness[kSize];
   alignas(64) int32_t back_facing[kSize];  // detail::faces_away: 1 or 0
   alignas(64) float facing_cosine[kSize];  // detail::facing_cosine (points with a normal)
+  alignas(64) float transmission[kSize];   // diffuse_transmission(facing_cosine) (brdf.h)
+  // place() of the depth and pixel, in the frame's image, beyond its camera's znear (at least 0).
+  alignas(64) int32_t pixel[kSize];
+  alignas(64) uint32_t tile[kSize], spot[kSize];
 };
 
 // Fills the outputs of the first n entries of the batch (n <= kSize); the inputs must be set up

@@ -2,7 +2,9 @@
 // compiled and supported here, against the scalar code they replace: ViewFrame::project's depth
 // and pixel bit for bit, the staleness, where the kernel settles it, equal to the scalar formula
 // (detail::staleness_steps of the cosine PointCache::view_staleness computes), the back-face
-// test equal to detail::faces_away, the facing cosine to detail::facing_cosine bit for bit; the gathered inputs equal to gather_input's; and the
+// test equal to detail::faces_away, the facing cosine to detail::facing_cosine and the diffuse
+// transmission to brdf.h's bit for bit, the placement in the image's tiles equal to place()'s;
+// the gathered inputs equal to gather_input's; and the
 // z-buffer's unpacking equal to unpack_winner's.
 #include <algorithm>
 #include <bit>
@@ -15,6 +17,7 @@
 
 #include "render/point_cache_detail.h"
 #include "render/point_projection.h"
+#include "shade/brdf.h"
 
 namespace epi::render {
 namespace {
@@ -28,7 +31,7 @@ TEST(PointProjection, EveryTargetGivesTheScalarBits) {
     hwy::SetSupportedTargetsForTest(target);
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> coordinate(-20.0f, 20.0f), log_width(std::log(0.02f), std::log(3.0f));
-    size_t settled = 0, viewed = 0, facing[2] = {0, 0};
+    size_t settled = 0, viewed = 0, facing[2] = {0, 0}, placed = 0, on_quarter = 0, past_one = 0;
     for (int round = 0; round < 40 && !HasFailure(); ++round) {
       View view;
       view.camera.eye = {coordinate(rng), coordinate(rng), coordinate(rng)};
@@ -55,8 +58,22 @@ TEST(PointProjection, EveryTargetGivesTheScalarBits) {
           const glm::vec3 n = detail::unpack_unit(batch.normal[k]);
           eye = eye - glm::dot(eye, n) * n + float(int(k % 3) - 1) * 1e-6f * n;
         }
+        if (k % 7 == 2 && batch.normal[k] != 0) eye = detail::unpack_unit(batch.normal[k]) * std::abs(coordinate(rng));  // head-on: cosines past 1
         if (k % 37 == 0) eye *= 1e38f;
         batch.eye_x[k] = eye.x, batch.eye_y[k] = eye.y, batch.eye_z[k] = eye.z;
+      }
+      // place(): a third of the points in the view, some on pixel borders, quarter-pixel lines,
+      // the image's last column and row and its borders just outside, some at the near plane.
+      for (size_t k = 1; k < ProjectionBatch::kSize; k += 3) {
+        std::uniform_real_distribution<float> along(0.0f, 1.0f);
+        float x = along(rng) * float(view.width), y = along(rng) * float(view.height);
+        if (k % 4 == 0) x = std::floor(x) + 0.25f * float(k % 5), y = std::floor(y);
+        if (k % 13 == 0) x = std::nextafter(float(view.width), 0.0f);
+        if (k % 19 == 0) y = float(view.height) * (k % 2 ? 1.0f : 0.0f);
+        const Ray ray = frame.ray(x, y);
+        const float t = k % 23 == 0 ? ray.tnear : ray.tnear + along(rng) * 30.0f;
+        const glm::vec3 world = ray.origin + t * ray.direction;
+        batch.x[k] = world.x, batch.y[k] = world.y, batch.z[k] = world.z;
       }
       // Half the points seen from where they were shaded, give or take a little.
       for (size_t k = 0; k < ProjectionBatch::kSize; k += 2) {
@@ -79,6 +96,15 @@ TEST(PointProjection, EveryTargetGivesTheScalarBits) {
         if (batch.normal[k] != 0 && !same_bits(facing_cos, batch.facing_cosine[k]))
           ADD_FAILURE() << hwy::TargetName(target) << ": facing cosine of entry " << k << " differs: " << facing_cos << " " << batch.facing_cosine[k];
         facing[away] += 1;
+        if (batch.normal[k] != 0 && !same_bits(diffuse_transmission(facing_cos), batch.transmission[k]))
+          ADD_FAILURE() << hwy::TargetName(target) << ": transmission of entry " << k << " differs";
+        const Placement at = place(p.depth, p.pixel.x, p.pixel.y, view.width, view.height, std::max(view.camera.znear, 0.0f));
+        if (batch.pixel[k] != at.pixel || batch.tile[k] != at.tile || batch.spot[k] != at.spot)
+          ADD_FAILURE() << hwy::TargetName(target) << ": placement of entry " << k << " differs: pixel " << at.pixel << " "
+                        << batch.pixel[k] << ", tile " << at.tile << " " << batch.tile[k] << ", spot " << at.spot << " " << batch.spot[k];
+        past_one += batch.normal[k] != 0 && facing_cos > 1.0f;
+        placed += at.pixel >= 0;
+        on_quarter += at.pixel >= 0 && (at.spot >> 16) % 4 != 0 && p.pixel.x == std::floor(p.pixel.x * 4.0f) / 4.0f;
         const glm::vec3 to_eye = frame.eye() - world;
         const float length = glm::length(to_eye);
         if (batch.staleness[k] < 0) continue;
@@ -94,6 +120,9 @@ TEST(PointProjection, EveryTargetGivesTheScalarBits) {
     EXPECT_GT(settled, size_t(8000)) << hwy::TargetName(target);  // of 40 x ~250: most are settled
     EXPECT_GT(viewed, size_t(500)) << hwy::TargetName(target);
     EXPECT_GT(std::min(facing[0], facing[1]), size_t(3000)) << hwy::TargetName(target);  // both verdicts
+    EXPECT_GT(placed, size_t(2500)) << hwy::TargetName(target);  // of 40 x ~85 put in the view
+    EXPECT_GT(on_quarter, size_t(50)) << hwy::TargetName(target);
+    EXPECT_GT(past_one, size_t(20)) << hwy::TargetName(target);  // the transmission's clamp
   }
   hwy::SetSupportedTargetsForTest(0);
 }
