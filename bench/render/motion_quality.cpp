@@ -17,6 +17,11 @@
 // FrameSettings::sync_as_async: requests made for the view that chose them and shaded a frame
 // later, as the viewer's asynchronous loop does (deterministic). --no-trace-ahead turns
 // FrameSettings::trace_ahead off (requests traced through the camera that chose them).
+// --settle N holds the camera at the last view for N more frames after the epi and render cache
+// paths (how fast the image settles when the user stops) and adds a table: the display RMSE at
+// the stop and 1, 2, 4, ... N frames later, beside the still run's (the same frame count at that
+// view from an empty cache), and the frames it takes to come within 1.5x and 1.1x of it; with
+// --out, those frames are written too (RUN_settleN.png).
 // --colours adds a second table: the colour the cache shows for every drawn point (before any
 // fade) against its surface shaded again from the last view (same seed), the points off by more than 0.1 (display luminance), and of
 // those, the ones the shader reports as mostly view-dependent (view share above 0.5: stale
@@ -31,6 +36,7 @@
 //        [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--times]
 //        [--colours] [--out DIR] SCENE.gltf...
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -64,6 +70,7 @@ struct Run {
   // --colours: drawn points (on an object, shaded again from the last view), off by more than 0.1,
   // of those reported view-dependent, and of the rest explained by the diffuse lobe's Fresnel transmission.
   size_t compared = 0, off = 0, transmission = 0, reported = 0;
+  std::vector<double> settle;  // --settle: RMSE at the stop (0) and each frame held there after it
 };
 
 struct Options {
@@ -80,7 +87,18 @@ struct Options {
   bool as_async = false;  // --as-async: FrameSettings::sync_as_async
   bool trace_ahead = true;  // --no-trace-ahead: FrameSettings::trace_ahead off
   bool colours = false;     // --colours: the stored colours against fresh shading (the second table)
+  int settle = 0;           // --settle N: frames held at the last view after the path (the settling table)
 };
+
+// Display-space RMSE of two images of the same size.
+double display_rmse(const RgbImage& image, const RgbImage& reference) {
+  double squared = 0.0;
+  for (size_t k = 0; k < image.pixels.size(); ++k) {
+    const double d = display(image.pixels[k]) - display(reference.pixels[k]);
+    squared += d * d;
+  }
+  return std::sqrt(squared / double(std::max<size_t>(1, image.pixels.size())));
+}
 
 // The drawn points' stored colours against their surfaces shaded again from `frame` (Run's --colours counts).
 void compare_colours(const PointCache& cache, const ViewFrame& frame, std::span<const glm::mat4> transforms,
@@ -193,6 +211,16 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
   r.rmse = std::sqrt(squared / (3.0 * pixels)), r.over01 *= 100.0 / pixels, r.over02 *= 100.0 / pixels;
   std::nth_element(points_ms.begin(), points_ms.begin() + ptrdiff_t(points_ms.size() / 2), points_ms.end());
   r.points_ms = points_ms[points_ms.size() / 2];
+  if (!still && o.settle > 0) {
+    // With --out, the frames 1, 2, 4, ... after the stop are written too (RUN_settleN.png).
+    const std::string stem = image_file.empty() ? "" : image_file.substr(0, image_file.size() - 4) + "_settle";
+    r.settle.push_back(display_rmse(image, reference));
+    for (int f = 1; f <= o.settle; ++f) {
+      image = renderer.render(last);
+      r.settle.push_back(display_rmse(image, reference));
+      if (!stem.empty() && (std::has_single_bit(unsigned(f)) || f == o.settle)) write_image(stem + std::to_string(f) + ".png", image);
+    }
+  }
   return r;
 }
 
@@ -225,11 +253,12 @@ int run_all(int argc, char** argv) {
     else if (a == "--as-async") o.as_async = true;
     else if (a == "--no-trace-ahead") o.trace_ahead = false;
     else if (a == "--colours") o.colours = true;
+    else if (a == "--settle") o.settle = std::stoi(value());
     else if (a.starts_with("-")) o.size = 0;  // unknown option (also --help): the usage line below
     else scenes.push_back(a);
   }
-  if (scenes.empty() || o.size < 8 || o.frames < 1 || !(o.budget > 0.0 && o.budget <= 1.0)) {
-    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--times] [--colours] [--out DIR] SCENE.gltf...\n");
+  if (scenes.empty() || o.size < 8 || o.frames < 1 || o.settle < 0 || !(o.budget > 0.0 && o.budget <= 1.0)) {
+    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--times] [--colours] [--settle N] [--out DIR] SCENE.gltf...\n");
     return 2;
   }
   if (!o.out.empty()) std::filesystem::create_directories(o.out);
@@ -238,6 +267,12 @@ int run_all(int argc, char** argv) {
   std::printf("| scene | run | RMSE | > 0.1 | > 0.2 | hidden | colour | near hidden | other |\n|---|---|---|---|---|---|---|---|---|\n");
   std::vector<Run> colour_rows;
   std::vector<std::string> colour_labels;
+  struct Settling {
+    std::string scene, run;
+    std::vector<double> rmse;
+    double still = 0.0;
+  };
+  std::vector<Settling> settling;
   for (const std::string& file : scenes) {
     const Scene scene = load_scene(file);
     RayScene ray_scene(scene);
@@ -268,11 +303,37 @@ int run_all(int argc, char** argv) {
                                                                (k.still ? "_still" : "_path") + ".png";
       const Run r = run(scene, ray_scene, shader, o, k.still, k.mode, reference, image_file);
       if (o.colours && k.mode == RenderMode::epi) colour_rows.push_back(r), colour_labels.push_back(name + " | " + k.label);
+      if (!r.settle.empty()) settling.push_back({name, k.label, r.settle});
+      if (k.still && k.mode == RenderMode::epi)
+        for (Settling& t : settling)
+          if (t.scene == name) t.still = r.rmse;
       std::printf("| %s | %s | %.4f | %.2f %% | %.2f %% | %zu | %zu | %zu | %zu |", name.c_str(), k.label, r.rmse, r.over01,
                   r.over02, r.hidden, r.colour, r.near, r.other);
       if (o.times) std::printf(" %.2f |", r.points_ms);
       std::printf("\n");
       std::fflush(stdout);
+    }
+  }
+  if (!settling.empty()) {
+    // The checkpoints: the stop, 1, 2, 4, ... frames after it, and the last.
+    std::vector<int> at;
+    for (int f = 0; f <= o.settle; f = f == 0 ? 1 : 2 * f) at.push_back(f);
+    if (at.back() != o.settle) at.push_back(o.settle);
+    std::printf("\nSettling: the camera held at the last view after the path, display RMSE %d frames after the stop (+0: the stop)\n\n| scene | run |", o.settle);
+    for (const int f : at) std::printf(" +%d |", f);
+    std::printf(" still | frames to 1.5x still | frames to 1.1x still |\n|---|---|");
+    for (size_t k = 0; k < at.size() + 3; ++k) std::printf("---|");
+    std::printf("\n");
+    for (const Settling& t : settling) {
+      std::printf("| %s | %s |", t.scene.c_str(), t.run.c_str());
+      for (const int f : at) std::printf(" %.4f |", t.rmse[size_t(f)]);
+      auto frames_to = [&](double factor) {
+        for (size_t f = 0; f < t.rmse.size(); ++f)
+          if (t.still > 0.0 && t.rmse[f] <= factor * t.still) return std::to_string(f);
+        return t.still > 0.0 ? "> " + std::to_string(o.settle) : std::string("(no still run)");
+      };
+      std::printf(t.still > 0.0 ? " %.4f |" : " |", t.still);
+      std::printf(" %s | %s |\n", frames_to(1.5).c_str(), frames_to(1.1).c_str());
     }
   }
   if (o.colours) {
