@@ -18,6 +18,12 @@ the camera held at each chosen key, the last frame compared) and the render cach
 0.75), the path's share of pixels over 0.2 (at most 0.3 %); and, for scale, the still view's
 share over 0.2 and a 1-spp ray trace of each chosen view (every pixel shaded once, `--mode
 raytrace --spp 1`, the same seed), its RMSE and its share over 0.2.
+--settle N: how fast the image settles once the camera stops, in the real loop. Each run follows
+the path and then holds the camera at its last view for N frames (a camera path file: the 60 keys,
+then the last again at frame 59 + N); the frames after the stop are compared with the last
+view's reference, beside the still run (60 frames held at that view). Prints the RMSE at the stop
+and 1, 2, 4, ... frames after it, the frames until it comes within 1.5x and 1.1x of the still
+error, and those frames in milliseconds of the loop (the run's mean frame time, `--stats`'s fps).
 """
 import argparse
 import json
@@ -69,7 +75,11 @@ def main():
     ap.add_argument("--size", type=int, default=256)
     ap.add_argument("--budget", default="0.02")
     ap.add_argument("--targets", action="store_true")
+    ap.add_argument("--settle", type=int, default=0)
     a = ap.parse_args()
+    if a.settle > 0:
+        a.frames_at = "59"
+        return settle_main(a)
     frames_at = [int(k) for k in a.frames_at.split(",")]
     size = f"{a.size}x{a.size}"
     os.makedirs(a.refs, exist_ok=True)
@@ -89,13 +99,7 @@ def main():
         keys = camera_path(scene)
         if len(keys) != 60:
             sys.exit(f"{scene}: {len(keys)} camera keys, expected 60 (one per frame)")
-        refs = {}
-        for k in frames_at:
-            ref = os.path.join(a.refs, f"{name}_{size}_64spp_key{k}.exr")
-            if not os.path.exists(ref):
-                subprocess.run([a.epi, "render", scene, "--mode", "reference", "--spp", "64", "--size", size] +
-                               camera_flags(keys[k]) + ["--quiet", "-o", ref], check=True, stdout=subprocess.DEVNULL)
-            refs[k] = ref
+        refs = {k: reference_at(a, scene, size, keys, k) for k in frames_at}
         for setting in a.settings.split(","):
             flags = [] if setting == "-" else setting.split()
             label = "default" if setting == "-" else setting
@@ -112,6 +116,73 @@ def main():
             print(f"| {name} | {label} | {len(path)} | {mean(path):.4f} | {mean(still):.4f} | {mean(rc):.4f} | "
                   f"{mean(path) / mean(still):.2f} | {mean(path) / mean(rc):.2f} | {mean(path, 2):.2f} % | "
                   f"{mean(still, 2):.2f} % | {mean(rt):.4f} | {mean(rt, 2):.2f} % |", flush=True)
+
+
+def reference_at(a, scene, size, keys, k):
+    """The 64-spp reference of camera key k (kept in REFS_DIR)."""
+    name = os.path.splitext(os.path.basename(scene))[0]
+    ref = os.path.join(a.refs, f"{name}_{size}_64spp_key{k}.exr")
+    if not os.path.exists(ref):
+        subprocess.run([a.epi, "render", scene, "--mode", "reference", "--spp", "64", "--size", size] +
+                       camera_flags(keys[k]) + ["--quiet", "-o", ref], check=True, stdout=subprocess.DEVNULL)
+    return ref
+
+
+def settle_main(a):
+    size = f"{a.size}x{a.size}"
+    os.makedirs(a.refs, exist_ok=True)
+    at = [0] + [1 << i for i in range(a.settle.bit_length()) if (1 << i) <= a.settle]
+    if at[-1] != a.settle:
+        at.append(a.settle)
+    print(f"{size}, budget {a.budget}, each 60-frame path then {a.settle} frames held at its last view, seeds {a.seeds}, "
+          "64-spp reference of the last view")
+    print("| scene | setting | runs | " + " | ".join(f"+{f}" for f in at) + " | still | frames to 1.5x still | "
+          "frames to 1.1x still | ms a frame | ms to 1.1x still |")
+    print("|---|---|---|" + "---|" * (len(at) + 5))
+    for scene in a.scenes:
+        name = os.path.splitext(os.path.basename(scene))[0]
+        keys = camera_path(scene)
+        if len(keys) != 60:
+            sys.exit(f"{scene}: {len(keys)} camera keys, expected 60 (one per frame)")
+        ref = reference_at(a, scene, size, keys, 59)
+        for setting in a.settings.split(","):
+            flags = [] if setting == "-" else setting.split()
+            label = "default" if setting == "-" else setting
+            still = statistics.mean(r[0] for r in held_at_keys(a, scene, size, keys, {59: ref}, flags))
+            curves, frame_ms = [], []
+            for seed in a.seeds.split(","):
+                work = tempfile.mkdtemp(prefix="epi_settle_")
+                try:
+                    path_file = os.path.join(work, "settle.path")
+                    with open(path_file, "w") as f:
+                        for k, key in enumerate(keys + [keys[59]]):
+                            frame = k if k < 60 else 59 + a.settle
+                            f.write(f"camera {frame} eye {' '.join(repr(float(v)) for v in key['eye'])} "
+                                    f"target {' '.join(repr(float(v)) for v in key['target'])} "
+                                    f"up {' '.join(repr(float(v)) for v in key['up'])} fov {float(key['yfov'])!r}\n")
+                    stats = os.path.join(work, "stats.json")
+                    subprocess.run([a.epi, "render", scene, "--size", size, "--frames", str(60 + a.settle), "--camera-path",
+                                    path_file, "--sample-budget", a.budget, "--seed", seed, "--quiet", "--no-speedup",
+                                    "--frames-out", os.path.join(work, "f%d.exr"), "--stats", stats,
+                                    "-o", os.path.join(work, "last.exr")] + flags, check=True, stdout=subprocess.DEVNULL)
+                    curves.append([compare(a.epi, os.path.join(work, f"f{59 + k}.exr"), ref)[0] for k in range(a.settle + 1)])
+                    with open(stats) as f:
+                        frame_ms.append(1000.0 / json.load(f)["fps"])
+                finally:
+                    shutil.rmtree(work)
+            mean_curve = [statistics.mean(c[k] for c in curves) for k in range(a.settle + 1)]
+
+            def frames_to(factor):
+                runs = [next((k for k, e in enumerate(c) if e <= factor * still), None) for c in curves]
+                if any(r is None for r in runs):
+                    return f"> {a.settle} in {sum(r is None for r in runs)} of {len(runs)}", None
+                return f"{statistics.mean(runs):.1f} ({min(runs)}-{max(runs)})", statistics.mean(runs)
+            to15, _ = frames_to(1.5)
+            to11, mean11 = frames_to(1.1)
+            ms = statistics.mean(frame_ms)
+            print(f"| {name} | {label} | {len(curves)} | " + " | ".join(f"{mean_curve[f]:.4f}" for f in at) +
+                  f" | {still:.4f} | {to15} | {to11} | {ms:.1f} | " + (f"{mean11 * ms:.0f}" if mean11 is not None else "") +
+                  " |", flush=True)
 
 
 def render(a, scene, size, seed, flags, work):
