@@ -160,6 +160,8 @@ int run_render_frames(const RenderOptions& options) {
   settings.trace_ahead = options.trace_ahead;
   if (options.sparse_occlusion_radius) settings.cache.sparse_occlusion_radius = *options.sparse_occlusion_radius;
   if (options.new_occluder_radius) settings.cache.new_occluder_radius = *options.new_occluder_radius;
+  if (options.predict_share) settings.predict_share = *options.predict_share;
+  if (options.predict_frames) settings.predict_frames = *options.predict_frames;
   std::optional<render::FrameRenderer> renderer;  // reset before the ray trace that measures the speed-up
   renderer.emplace(scene, ray_scene, shader, settings);
   const double build_ms = ms_since(stage);

@@ -138,6 +138,13 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
                    "the points behind it for a few frames (docs/render.md). Default 8; at most the sparse radius "
                    "turns this off")
         ->check(CLI::Range(2, 15));
+    app.add_option("--predict-share", render.predict_share,
+                   "Predictive sampling: at most this share of the budget goes to the gaps the camera, "
+                   "extrapolated ahead, is about to open (docs/render.md, \"Sampling\"). Default 0.25; 0 turns it off")
+        ->check(kFinite & CLI::Range(0.0, 1.0));
+    app.add_option("--predict-frames", render.predict_frames,
+                   "Predictive sampling: how many frames ahead the camera is extrapolated. Default 4")
+        ->check(kFinite & CLI::Range(0.0, 64.0));
   } else {
     render.mode = "reference";  // built without the frame loop
     app.add_option("--mode", render.mode, "reference: converged, --spp samples per pixel; raytrace: 1 sample per pixel")

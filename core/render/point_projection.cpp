@@ -56,7 +56,8 @@ HWY_INLINE void Place(const Constants& c, V depth, V pixel_x, V pixel_y, Project
   // Lanes outside the view convert whatever they hold (masked below).
   const auto px = hn::Min(hn::ConvertTo(di, pixel_x), hn::Set(di, c.image_width - 1));
   const auto py = hn::Min(hn::ConvertTo(di, pixel_y), hn::Set(di, c.image_height - 1));
-  const auto three = hn::Set(di, 3), four = hn::Set(d, 4.0f);
+  const auto three = hn::Set(di, 3);
+  const auto four = hn::Set(d, 4.0f);
   const auto rx = hn::Min(three, hn::ConvertTo(di, hn::Mul(hn::Sub(pixel_x, hn::ConvertTo(d, px)), four)));
   const auto ry = hn::Min(three, hn::ConvertTo(di, hn::Mul(hn::Sub(pixel_y, hn::ConvertTo(d, py)), four)));
   const auto pixel = hn::Add(hn::Mul(py, hn::Set(di, c.image_width)), px);

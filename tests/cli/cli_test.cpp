@@ -112,7 +112,7 @@ TEST(Cli, UnknownFlagPrintsTheUsageOfItsSubcommand) {
 
 TEST(Cli, BadOptionValuesAreRejectedWithUsage) {
   for (const char* args : {"--size 12", "--spp 0", "--mode fast", "--eye 1,2,x", "--fov 0", "--area-light-samples 0",
-                           "--gi-max-bounces -1", "--exposure big"}) {
+                           "--gi-max-bounces -1", "--exposure big", "--predict-share 1.5", "--predict-frames -1"}) {
     const EpiRun run = run_epi("render " + kCornell + " " + args);
     EXPECT_EXIT_CODE(run, kUsage);
     EXPECT_NE(run.out.find("Usage:"), std::string::npos) << args << "\n" << run.out;
@@ -288,6 +288,23 @@ TEST(Cli, TheDefaultModeIsTheEdgeAndPointRenderer) {
   EXPECT_EQ(stats["mode"], "epi");
   EXPECT_GT(stats["edges"]["border"].get<double>() + stats["edges"]["silhouette"].get<double>(), 0.0);
   EXPECT_TRUE(fs::exists(dir / "d.png"));
+}
+
+// --predict-share and --predict-frames reach the frame loop: along the Cornell box's path the
+// default sends part of each frame's budget to predicted gaps; a share of 0, or extrapolating 0
+// frames ahead (the predicted view is the current one: no gap outside it), sends none.
+TEST(Cli, PredictiveSamplingFlagsReachTheRenderer) {
+  const fs::path dir = temp_dir("predict");
+  auto predicted = [&](const std::string& flags) {
+    const fs::path stats = dir / "p.json";
+    const EpiRun run = run_epi("render " + kCornell + " --size 64x48 --frames 12 --sync --quiet --no-speedup" + flags +
+                               " -o " + (dir / "p.png").string() + " --stats " + stats.string());
+    EXPECT_EXIT_CODE(run, 0);
+    return read_json(stats)["predicted_per_frame"].get<double>();
+  };
+  EXPECT_GT(predicted(""), 0.0);
+  EXPECT_EQ(predicted(" --predict-share 0"), 0.0);
+  EXPECT_EQ(predicted(" --predict-frames 0"), 0.0);
 }
 
 TEST(Cli, RenderWritesImageAndStats) {
