@@ -53,13 +53,15 @@ HWY_INLINE void Place(const Constants& c, V depth, V pixel_x, V pixel_y, Project
   const auto inside = hn::And(hn::And(hn::Gt(depth, hn::Set(d, c.znear)), hn::And(hn::Ge(pixel_x, zero), hn::Ge(pixel_y, zero))),
                               hn::And(hn::Lt(pixel_x, hn::Set(d, c.width)), hn::Lt(pixel_y, hn::Set(d, c.height))));
   const auto in = hn::RebindMask(di, inside);
-  // Lanes outside the view convert whatever they hold (masked below).
-  const auto px = hn::Min(hn::ConvertTo(di, pixel_x), hn::Set(di, c.image_width - 1));
-  const auto py = hn::Min(hn::ConvertTo(di, pixel_y), hn::Set(di, c.image_height - 1));
+  // Lanes outside the view convert 0 instead of what they hold (NaN or out of int's range: a
+  // conversion with undefined behaviour on the emulated target); their results are masked below.
+  const auto x = hn::IfThenElseZero(inside, pixel_x), y = hn::IfThenElseZero(inside, pixel_y);
+  const auto px = hn::Min(hn::ConvertTo(di, x), hn::Set(di, c.image_width - 1));
+  const auto py = hn::Min(hn::ConvertTo(di, y), hn::Set(di, c.image_height - 1));
   const auto three = hn::Set(di, 3);
   const auto four = hn::Set(d, 4.0f);
-  const auto rx = hn::Min(three, hn::ConvertTo(di, hn::Mul(hn::Sub(pixel_x, hn::ConvertTo(d, px)), four)));
-  const auto ry = hn::Min(three, hn::ConvertTo(di, hn::Mul(hn::Sub(pixel_y, hn::ConvertTo(d, py)), four)));
+  const auto rx = hn::Min(three, hn::ConvertTo(di, hn::Mul(hn::Sub(x, hn::ConvertTo(d, px)), four)));
+  const auto ry = hn::Min(three, hn::ConvertTo(di, hn::Mul(hn::Sub(y, hn::ConvertTo(d, py)), four)));
   const auto pixel = hn::Add(hn::Mul(py, hn::Set(di, c.image_width)), px);
   const auto tile = hn::Add(hn::Mul(hn::ShiftRight<TileLayout::kHeightShift>(py), hn::Set(di, c.tile_columns)),
                             hn::ShiftRight<TileLayout::kWidthShift>(px));
