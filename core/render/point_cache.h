@@ -255,7 +255,7 @@ class PointCache {
   }
   uint32_t faded_srgb(const CachePoint& p, const PointColour& c, float transmission_now, bool by_steps) const;
   // The current view's diffuse transmission at p (brdf.h; 1 without a normal), from the eye of the
-  // last projection: the projection's facing_cosine for the scalar paths.
+  // last projection: what project_batch's transmission gives the fast path's projection.
   float transmission_now(const CachePoint& p) const;
   // stale and mostly view-dependent (view_drop_share)
   bool shows_nothing(const CachePoint& p, float view_share) const {

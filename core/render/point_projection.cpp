@@ -132,7 +132,6 @@ void ProjectBatch(const Constants& c, ProjectionBatch& b, size_t n) {
     // detail::facing_cosine, then diffuse_transmission (brdf.h): 1 - schlick(0.04, cosine).x,
     // with std::clamp's choices.
     const auto cosine_facing = hn::Div(facing, hn::Sqrt(Dot(ex, ey, ez, ex, ey, ez)));
-    hn::Store(cosine_facing, d, b.facing_cosine + i);
     const auto m_raw = hn::Sub(one, cosine_facing);
     const auto m = hn::IfThenElse(hn::Lt(m_raw, zero), zero, hn::IfThenElse(hn::Lt(one, m_raw), one, m_raw));
     const auto m5 = hn::Mul(hn::Mul(hn::Mul(m, m), hn::Mul(m, m)), m);

@@ -27,9 +27,8 @@ namespace epi::render {
 
 // The point cache's z-buffer tiles (PointCache::project): a tile owns kWidth x kHeight pixels.
 struct TileLayout {
-  static constexpr int kWidth = 256, kHeight = 16;
-  static constexpr int kWidthShift = 8, kHeightShift = 4;
-  static_assert(kWidth == 1 << kWidthShift && kHeight == 1 << kHeightShift);
+  static constexpr int kWidthShift = 8, kHeightShift = 4;  // 256 x 16
+  static constexpr int kWidth = 1 << kWidthShift, kHeight = 1 << kHeightShift;
   static int columns(int image_width) { return (image_width + kWidth - 1) / kWidth; }
 };
 
@@ -69,8 +68,8 @@ struct ProjectionBatch {
   alignas(64) float depth[kSize], pixel_x[kSize], pixel_y[kSize];
   alignas(64) int32_t staleness[kSize];
   alignas(64) int32_t back_facing[kSize];  // detail::faces_away: 1 or 0
-  alignas(64) float facing_cosine[kSize];  // detail::facing_cosine (points with a normal)
-  alignas(64) float transmission[kSize];   // diffuse_transmission(facing_cosine) (brdf.h)
+  // brdf.h's diffuse_transmission of detail::facing_cosine (points with a normal).
+  alignas(64) float transmission[kSize];
   // place() of the depth and pixel, in the frame's image, beyond its camera's znear (at least 0).
   alignas(64) int32_t pixel[kSize];
   alignas(64) uint32_t tile[kSize], spot[kSize];
