@@ -46,6 +46,8 @@ def camera_path(scene):
         gltf.get("extras", {}).get("epi", {}).get("camera_path")
     if not keys:
         sys.exit(f"{scene}: no camera_path in the scene's extras.epi")
+    if len(keys) != 60:
+        sys.exit(f"{scene}: {len(keys)} camera keys, expected 60 (one per frame)")
     return keys
 
 
@@ -97,8 +99,6 @@ def main():
     for scene in a.scenes:
         name = os.path.splitext(os.path.basename(scene))[0]
         keys = camera_path(scene)
-        if len(keys) != 60:
-            sys.exit(f"{scene}: {len(keys)} camera keys, expected 60 (one per frame)")
         refs = {k: reference_at(a, scene, size, keys, k) for k in frames_at}
         for setting in a.settings.split(","):
             flags = [] if setting == "-" else setting.split()
@@ -142,8 +142,6 @@ def settle_main(a):
     for scene in a.scenes:
         name = os.path.splitext(os.path.basename(scene))[0]
         keys = camera_path(scene)
-        if len(keys) != 60:
-            sys.exit(f"{scene}: {len(keys)} camera keys, expected 60 (one per frame)")
         ref = reference_at(a, scene, size, keys, 59)
         for setting in a.settings.split(","):
             flags = [] if setting == "-" else setting.split()

@@ -90,7 +90,8 @@ struct Options {
   int settle = 0;           // --settle N: frames held at the last view after the path (the settling table)
 };
 
-// Display-space RMSE of two images of the same size.
+// Display-space RMSE of two images of the same size, through this tool's display() (clamped, sRGB;
+// `epi compare` tone-maps linear images first, so its figures differ).
 double display_rmse(const RgbImage& image, const RgbImage& reference) {
   double squared = 0.0;
   for (size_t k = 0; k < image.pixels.size(); ++k) {
@@ -173,7 +174,7 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
     return hit.hit && proj.depth > frame.project(ray.origin + hit.t * ray.direction).depth * 1.02f + 1e-3f;
   };
   Run r;
-  double squared = 0.0;
+  r.rmse = display_rmse(image, reference);
   const int n = o.size;
   // The causes as a picture: the frame dimmed, each pixel off by more than 0.1 coloured by cause
   // (hidden red, colour yellow, near hidden magenta, other blue).
@@ -188,7 +189,7 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
       double worst = 0.0;
       for (int c = 0; c < 3; ++c) {
         const double d = display(image.pixels[i * 3 + size_t(c)]) - display(reference.pixels[i * 3 + size_t(c)]);
-        squared += d * d, worst = std::max(worst, std::abs(d));
+        worst = std::max(worst, std::abs(d));
       }
       r.over01 += worst > 0.1, r.over02 += worst > 0.2;
       if (worst <= 0.1) continue;
@@ -208,7 +209,7 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
   if (!image_file.empty()) write_image(image_file.substr(0, image_file.size() - 4) + "_causes.png", causes);
   if (o.colours && mode == RenderMode::epi) compare_colours(cache, frame, transforms, shader, r);
   const double pixels = double(n) * double(n);
-  r.rmse = std::sqrt(squared / (3.0 * pixels)), r.over01 *= 100.0 / pixels, r.over02 *= 100.0 / pixels;
+  r.over01 *= 100.0 / pixels, r.over02 *= 100.0 / pixels;
   std::nth_element(points_ms.begin(), points_ms.begin() + ptrdiff_t(points_ms.size() / 2), points_ms.end());
   r.points_ms = points_ms[points_ms.size() / 2];
   if (!still && o.settle > 0) {
