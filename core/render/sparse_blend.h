@@ -50,7 +50,7 @@ bool any_sparse_block(const EpiImage& epi, float dense);
 // (weight / mass: the local share of pixels holding a sample), except at barrier pixels (non-zero:
 // an edge crosses them) and where no sample is reached. Returns the number of pixels changed.
 // The filter runs as Highway kernels (sparse_blend_kernels.h): rows eight at a time in vector
-// lanes, columns in strips of 16, the blend in the columns' last sweep.
+// lanes, columns in strips of 32, the blend in the columns' last sweep.
 size_t sparse_blend(RgbImage& image, const EpiImage& epi, std::span<const uint8_t> barrier,
                     const SparseBlendSettings& settings, SparseBlendScratch& scratch);
 

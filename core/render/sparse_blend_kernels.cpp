@@ -136,12 +136,18 @@ size_t Strip(D d, const SparseColumnStrip& s, int x0, float* HWY_RESTRICT forwar
 }
 
 size_t FilterColumnStrip(const SparseColumnStrip& s) {
-  const hn::CappedTag<float, kSparseStrip> d;
-  if (s.x0 + kSparseStrip <= s.width) return Strip<decltype(d), kSparseStrip>(d, s, s.x0, s.forward);
-  // The image's last, narrower strip: a column at a time.
-  const hn::CappedTag<float, 1> d1;
+  // Two vectors of columns at a time: ten chains of the recursion to overlap, two cache lines of
+  // each row (on every target: more vectors would spill the narrower targets' registers); the
+  // image's last columns a vector, then a column, at a time.
+  const hn::CappedTag<float, kSparseStrip / 2> d;
+  constexpr size_t N = hn::MaxLanes(d);
+  const int end = std::min(s.width, s.x0 + kSparseStrip);
   size_t changed = 0;
-  for (int x = s.x0; x < s.width; ++x) changed += Strip<decltype(d1), 1>(d1, s, x, s.forward);
+  int x = s.x0;
+  for (; x + int(2 * N) <= end; x += int(2 * N)) changed += Strip<decltype(d), 2 * N>(d, s, x, s.forward);
+  for (; x + int(N) <= end; x += int(N)) changed += Strip<decltype(d), N>(d, s, x, s.forward);
+  const hn::CappedTag<float, 1> d1;
+  for (; x < end; ++x) changed += Strip<decltype(d1), 1>(d1, s, x, s.forward);
   return changed;
 }
 

@@ -22,7 +22,7 @@ void filter_row_lanes(float* lanes, const float* keep, float* forward, int width
 // being barrier[i] == 0. Without `image`, the filtered values replace the planes'; with it, they
 // stay in `forward` and the strip of `image` (3 floats per pixel) is blended as sparse_blend does;
 // returns the number of pixels changed. `forward`: scratch of height x channels x kSparseStrip floats.
-inline constexpr int kSparseStrip = 16;
+inline constexpr int kSparseStrip = 32;
 struct SparseColumnStrip {
   float* planes;
   size_t plane;
