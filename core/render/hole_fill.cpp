@@ -12,24 +12,34 @@ size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<con
 
 size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<const uint8_t> barrier,
                   HoleFillScratch& scratch) {
-  const int w = image.width, h = image.height;
-  const size_t n = size_t(w) * size_t(h);
+  const size_t n = size_t(image.width) * size_t(image.height);
   if (holes.size() != n || barrier.size() != n) throw std::invalid_argument("fill_holes: mask size differs from the image");
-  // state: 0 filled (a source), 1 hole, 2 hole on a barrier (filled last).
-  // The passes below visit the holes only (a few per mille of a frame's pixels after motion, in
-  // ascending order, as a scan of the image would): `hole_list`, gathered once.
+  // The passes visit the holes only (a few per mille of a frame's pixels after motion, in
+  // ascending order, as a scan of the image would): listed once, 64 pixels at a time (most such
+  // chunks hold none).
   std::vector<uint8_t>& state = scratch.state;
-  std::vector<uint32_t> &front = scratch.front, &next = scratch.next, &ring = scratch.ring, &last = scratch.last;
   std::vector<uint32_t>& hole_list = scratch.holes;
-  state.resize(n), front.clear(), last.clear(), hole_list.clear();
-  for (size_t i = 0; i < n; i += 64) {  // 64 pixels at a time: most such chunks hold no hole
+  state.resize(n), hole_list.clear();
+  for (size_t i = 0; i < n; i += 64) {
     const size_t end = std::min(n, i + 64);
     uint8_t any = 0;
-    for (size_t k = i; k < end; ++k) state[k] = uint8_t((holes[k] != 0) * (1 + (barrier[k] != 0))), any |= state[k];
+    for (size_t k = i; k < end; ++k) state[k] = hole_state(holes[k] != 0, barrier[k] != 0), any |= state[k];
     if (any)
       for (size_t k = i; k < end; ++k)
         if (state[k]) hole_list.push_back(uint32_t(k));
   }
+  return fill_listed_holes(image, barrier, scratch);
+}
+
+size_t fill_listed_holes(RgbImage& image, std::span<const uint8_t> barrier, HoleFillScratch& scratch) {
+  const int w = image.width, h = image.height;
+  const size_t n = size_t(w) * size_t(h);
+  if (scratch.state.size() != n || barrier.size() != n) throw std::invalid_argument("fill_holes: mask size differs from the image");
+  // state: 0 filled (a source), 1 hole, 2 hole on a barrier (filled last).
+  std::vector<uint8_t>& state = scratch.state;
+  std::vector<uint32_t> &front = scratch.front, &next = scratch.next, &ring = scratch.ring, &last = scratch.last;
+  const std::vector<uint32_t>& hole_list = scratch.holes;
+  front.clear(), last.clear();
   auto fill_from_neighbours = [&](int x, int y, bool through_barriers) {
     float sum[3] = {0, 0, 0};
     int count = 0;

@@ -27,4 +27,10 @@ size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<con
                   HoleFillScratch& scratch);
 size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<const uint8_t> barrier);
 
+// fill_holes with its set-up made by the caller, in the pass that finds the holes anyway (the
+// renderer): scratch.state[i] = hole_state(hole, barrier) for every pixel, scratch.holes the pixels
+// whose state is not 0, ascending. The same image as fill_holes.
+inline uint8_t hole_state(bool hole, bool on_barrier) { return uint8_t(uint32_t(hole) * (1u + uint32_t(on_barrier))); }
+size_t fill_listed_holes(RgbImage& image, std::span<const uint8_t> barrier, HoleFillScratch& scratch);
+
 }  // namespace epi::render

@@ -450,23 +450,34 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   // Epi mode: pixels that reached no sample (black, top priority) filled from their own region.
   if (settings_.mode == RenderMode::epi && settings_.fill_holes) {
     const auto tf = Clock::now();
+    // The holes found, their barrier flags and the fill's set-up in one pass (bands of rows in
+    // parallel, each listing its holes; the lists joined in order: the fill's ascending list).
+    const int w = settings_.width, h = settings_.height;
     const size_t n = reconstruction_.priority.size();
-    holes_.resize(n), barrier_.resize(n);
-    const float* rgb = reconstruction_.image.pixels.data();
-    const size_t holes = tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, n, 1 << 14), size_t(0),
-        [&](const tbb::blocked_range<size_t>& r, size_t count) {
-          for (size_t i = r.begin(); i != r.end(); ++i) {
-            const bool hole = (reconstruction_.priority[i] >= kMaxPriority) & (rgb[3 * i] == 0.0f) &
-                              (rgb[3 * i + 1] == 0.0f) & (rgb[3 * i + 2] == 0.0f);
-            holes_[i] = hole, count += hole;
-            barrier_[i] = (edge_pixels_[i] & (kDepthEdge | kSharpEdge)) != 0;
-          }
-          return count;
-        },
-        std::plus<size_t>());
-    // No hole (the usual frame): nothing to fill, the fill's whole-image passes are skipped.
-    stats_.holes_filled = holes ? fill_holes(reconstruction_.image, holes_, barrier_, hole_scratch_) : 0;
+    constexpr int kBandRows = 16;
+    const int bands = (h + kBandRows - 1) / kBandRows;
+    barrier_.resize(n), hole_scratch_.state.resize(n), hole_bands_.resize(size_t(bands));
+    tbb::parallel_for(0, bands, [&](int band) {
+      // Local pointers: the byte stores below may alias anything, members would be reloaded.
+      const float* const priority = reconstruction_.priority.data();
+      const float* const rgb = reconstruction_.image.pixels.data();
+      const uint8_t* const edges = edge_pixels_.data();
+      uint8_t* const barrier = barrier_.data();
+      uint8_t* const state = hole_scratch_.state.data();
+      std::vector<uint32_t>& list = hole_bands_[size_t(band)];
+      list.clear();
+      const size_t begin = size_t(band) * kBandRows * size_t(w), end = std::min(n, begin + kBandRows * size_t(w));
+      for (size_t i = begin; i != end; ++i) {
+        const bool hole = (priority[i] >= kMaxPriority) & (rgb[3 * i] == 0.0f) & (rgb[3 * i + 1] == 0.0f) & (rgb[3 * i + 2] == 0.0f);
+        const bool on_barrier = (edges[i] & (kDepthEdge | kSharpEdge)) != 0;
+        barrier[i] = on_barrier, state[i] = hole_state(hole, on_barrier);
+        if (hole) list.push_back(uint32_t(i));  // rare: the branch predicts
+      }
+    });
+    hole_scratch_.holes.clear();
+    for (const std::vector<uint32_t>& list : hole_bands_) hole_scratch_.holes.insert(hole_scratch_.holes.end(), list.begin(), list.end());
+    // No hole (the usual frame at rest): nothing to fill.
+    stats_.holes_filled = hole_scratch_.holes.empty() ? 0 : fill_listed_holes(reconstruction_.image, barrier_, hole_scratch_);
     stats_.ms[FrameStage::interpolate] += ms_since(tf);
   }
 
