@@ -162,6 +162,8 @@ int run_render_frames(const RenderOptions& options) {
   if (options.new_occluder_radius) settings.cache.new_occluder_radius = *options.new_occluder_radius;
   if (options.predict_share) settings.predict_share = *options.predict_share;
   if (options.predict_frames) settings.predict_frames = *options.predict_frames;
+  if (options.predict_stride) settings.predict_stride = *options.predict_stride;
+  if (options.predict_splat) settings.predict_splat = *options.predict_splat;
   std::optional<render::FrameRenderer> renderer;  // reset before the ray trace that measures the speed-up
   renderer.emplace(scene, ray_scene, shader, settings);
   const double build_ms = ms_since(stage);

@@ -145,6 +145,14 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
     app.add_option("--predict-frames", render.predict_frames,
                    "Predictive sampling: how many frames ahead the camera is extrapolated. Default 4")
         ->check(kFinite & CLI::Range(0.0, 64.0));
+    app.add_option("--predict-stride", render.predict_stride,
+                   "Predictive sampling: 1 in this many cached points is projected into the view ahead (a hash "
+                   "of the slot picks them). Default 8; 1 projects them all")
+        ->check(CLI::Range(1, 64));
+    app.add_option("--predict-splat", render.predict_splat,
+                   "Predictive sampling: each projected point marks a square of this many pixels a side as "
+                   "covered. Default 5")
+        ->check(CLI::Range(1, 15));
   } else {
     render.mode = "reference";  // built without the frame loop
     app.add_option("--mode", render.mode, "reference: converged, --spp samples per pixel; raytrace: 1 sample per pixel")

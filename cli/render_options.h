@@ -62,10 +62,12 @@ struct RenderOptions {
   // "Sparse near surfaces"); 2, the dense radius, turns the sparse rule off. Unset: the renderer's.
   std::optional<int> sparse_occlusion_radius;
   std::optional<int> new_occluder_radius;
-  // Predictive sampling (FrameSettings::predict_share, predict_frames; render.md, "Sampling").
-  // Unset: the renderer's.
+  // Predictive sampling (FrameSettings::predict_share, predict_frames, predict_stride,
+  // predict_splat; render.md, "Sampling"). Unset: the renderer's.
   std::optional<float> predict_share;
   std::optional<float> predict_frames;
+  std::optional<int> predict_stride;
+  std::optional<int> predict_splat;
   std::string reference;       // image to compare the written frame with (all modes); empty: none
   bool speedup = true;         // epi, rendercache: time a 1-spp ray trace of the last view
 };

@@ -100,14 +100,17 @@ void BM_PredictedOccupancy(benchmark::State& state) {
   std::vector<uint8_t> occupied;
   int phase = 0;
   for (auto _ : state) {
-    predicted_occupancy(cloud->cache, ahead, cloud->transforms, int(state.range(2)), phase++, 3, occupied);
+    predicted_occupancy(cloud->cache, ahead, cloud->transforms, int(state.range(2)), phase++, int(state.range(4)), occupied);
     benchmark::DoNotOptimize(occupied.data());
   }
   state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(cloud->cache.points().size()));  // slots per second
 }
+// args: width, height, stride, threads, splat (FrameSettings::predict_stride, predict_splat)
 BENCHMARK(BM_PredictedOccupancy)
-    ->ArgsProduct({{512}, {512}, {2}, {1, 2}})
-    ->ArgsProduct({{1920}, {1080}, {1, 2, 3}, {1, 2}})
+    ->ArgsProduct({{512}, {512}, {2, 4}, {1, 2}, {3, 4}})
+    ->ArgsProduct({{1920}, {1080}, {1, 2, 3}, {1, 2}, {3}})
+    ->ArgsProduct({{1920}, {1080}, {4}, {1, 2}, {3, 4}})
+    ->ArgsProduct({{1920}, {1080}, {8}, {1, 2}, {5}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

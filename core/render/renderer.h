@@ -56,8 +56,9 @@ struct FrameSettings {
   PointCacheSettings cache;
   float predict_share = 0.25f;  // at most this share of the budget goes to predicted gaps
   float predict_frames = 4.0f;  // how far ahead the camera is extrapolated
-  int predict_stride = 2;       // predictive projection uses 1/stride of the points ...
-  int predict_splat = 3;        // ... as splat x splat squares
+  int predict_stride = 8;       // predictive projection uses 1/stride of the points ...
+  int predict_splat = 5;        // ... as splat x splat squares (8 and 5: the same quality as 2 and 3
+                                // along the paths at about half the cost; render.md, "Sampling")
   // How the asynchronous shader and the frame loop share the cores (docs/render.md, "Cores").
   // adaptive: the shader gets shader_threads (0: all cores but one, at least one) and the loop
   // one core while the shader is behind (the last frame's requests not all shaded when that

@@ -112,7 +112,8 @@ TEST(Cli, UnknownFlagPrintsTheUsageOfItsSubcommand) {
 
 TEST(Cli, BadOptionValuesAreRejectedWithUsage) {
   for (const char* args : {"--size 12", "--spp 0", "--mode fast", "--eye 1,2,x", "--fov 0", "--area-light-samples 0",
-                           "--gi-max-bounces -1", "--exposure big", "--predict-share 1.5", "--predict-frames -1"}) {
+                           "--gi-max-bounces -1", "--exposure big", "--predict-share 1.5", "--predict-frames -1",
+                           "--predict-stride 0", "--predict-splat 16"}) {
     const EpiRun run = run_epi("render " + kCornell + " " + args);
     EXPECT_EXIT_CODE(run, kUsage);
     EXPECT_NE(run.out.find("Usage:"), std::string::npos) << args << "\n" << run.out;
@@ -290,9 +291,12 @@ TEST(Cli, TheDefaultModeIsTheEdgeAndPointRenderer) {
   EXPECT_TRUE(fs::exists(dir / "d.png"));
 }
 
-// --predict-share and --predict-frames reach the frame loop: along the Cornell box's path the
-// default sends part of each frame's budget to predicted gaps; a share of 0, or extrapolating 0
-// frames ahead (the predicted view is the current one: no gap outside it), sends none.
+// --predict-share, --predict-frames, --predict-stride and --predict-splat reach the frame loop:
+// along the Cornell box's path the default sends part of each frame's budget to predicted gaps;
+// a share of 0, or extrapolating 0 frames ahead (the predicted view is the current one: no gap
+// outside it), sends none. With the whole budget allowed, every point projected as a 15-pixel
+// square covers more of the view ahead than 1 point in 64 does, or every point as one pixel:
+// fewer gaps.
 TEST(Cli, PredictiveSamplingFlagsReachTheRenderer) {
   const fs::path dir = temp_dir("predict");
   auto predicted = [&](const std::string& flags) {
@@ -305,6 +309,9 @@ TEST(Cli, PredictiveSamplingFlagsReachTheRenderer) {
   EXPECT_GT(predicted(""), 0.0);
   EXPECT_EQ(predicted(" --predict-share 0"), 0.0);
   EXPECT_EQ(predicted(" --predict-frames 0"), 0.0);
+  const double covered = predicted(" --predict-share 1 --predict-stride 1 --predict-splat 15");
+  EXPECT_LT(covered, predicted(" --predict-share 1 --predict-stride 64 --predict-splat 15"));
+  EXPECT_LT(covered, predicted(" --predict-share 1 --predict-stride 1 --predict-splat 1"));
 }
 
 TEST(Cli, RenderWritesImageAndStats) {

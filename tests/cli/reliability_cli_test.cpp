@@ -105,7 +105,8 @@ TEST(Reliability, PatternAndImageSizesBeyondTheLimitAreRefusedBeforeAllocating) 
 TEST(Reliability, BadNumbersAreUsageErrors) {
   for (const char* args : {"--size 4294967328x32", "--size 32x-1", "--size +32x32", "--size 32x32x", "--exposure nan",
                            "--exposure inf", "--sample-budget nan", "--fov nan", "--memory-limit nan",
-                           "--memory-limit 0", "--predict-share nan", "--predict-frames inf"}) {
+                           "--memory-limit 0", "--predict-share nan", "--predict-frames inf",
+                           "--predict-stride 1e9"}) {
     SCOPED_TRACE(args);
     const EpiRun run = run_epi("render " + kCornell + " " + args + " -o " + scratch("x.png").string());
     EXPECT_EXIT_CODE(run, kUsage);
