@@ -137,8 +137,8 @@ size_t Strip(D d, const SparseColumnStrip& s, int x0, float* HWY_RESTRICT forwar
 
 size_t FilterColumnStrip(const SparseColumnStrip& s) {
   // Two vectors of columns at a time: ten chains of the recursion to overlap, two cache lines of
-  // each row (on every target: more vectors would spill the narrower targets' registers); the
-  // image's last columns a vector, then a column, at a time.
+  // each row (three measured slower on AVX3: docs/render.md, "Sparse regions"); the image's last
+  // columns a vector, then a column, at a time.
   const hn::CappedTag<float, kSparseStrip / 2> d;
   constexpr size_t N = hn::MaxLanes(d);
   const int end = std::min(s.width, s.x0 + kSparseStrip);
