@@ -44,7 +44,7 @@ wait 20
 window-screenshot $images/window-reachability.png
 SCRIPT
 xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$scene" --size 960x600 --script "$work/window.txt"
-# The default 512x512 window, where the overlay takes its compact form below the panel.
+# The default 512x512 window: the panel folded to its title bar, the overlay in its compact form.
 printf 'wait 60\nwindow-screenshot %s\n' "$images/window-512.png" > "$work/window-512.txt"
 xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$scene" --script "$work/window-512.txt"
 

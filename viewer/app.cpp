@@ -237,6 +237,7 @@ class Viewer {
   std::array<std::optional<Camera>, 9> bookmarks_;
   bool show_panel_ = true, show_help_ = false;
   Rect panel_rect_;                               // the panel as last drawn
+  bool panel_fold_decided_ = false;               // whether the panel starts folded was decided
   ImVec2 overlay_full_{0, 0}, overlay_compact_{0, 0};  // the overlay's two forms as last drawn
   bool quit_ = false;
   int window_width_ = 0, window_height_ = 0, fb_width_ = 0, fb_height_ = 0;
@@ -949,6 +950,12 @@ void Viewer::draw_panel() {
   ImGui::PopItemWidth();
   const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
   panel_rect_ = {pos.x, pos.y, size.x, size.y};
+  // Once its size is known (not on the frame it appears, when ImGui is still measuring it), a panel
+  // that would hide much of a small window folds to its title bar (overlay_layout.h).
+  if (!panel_fold_decided_ && !ImGui::IsWindowAppearing()) {
+    panel_fold_decided_ = true;
+    if (panel_starts_collapsed(panel_rect_, float(window_width_), float(window_height_))) ImGui::SetWindowCollapsed(true);
+  }
   ImGui::End();
 }
 

@@ -13,8 +13,14 @@ float overlap_area(const Rect& a, const Rect& b) {
 
 bool overlaps(const Rect& a, const Rect& b) { return overlap_area(a, b) > 0; }
 
+bool panel_starts_collapsed(const Rect& panel, float window_width, float window_height, float max_share) {
+  const float window_area = window_width * window_height;
+  return window_area > 0 && overlap_area(panel, Rect{0, 0, window_width, window_height}) > max_share * window_area;
+}
+
 OverlayPlacement place_overlay(const Rect& panel, float full_width, float full_height, float compact_width,
-                               float compact_height, float window_width, float window_height, float margin) {
+                               float compact_height, float window_width, float window_height, float margin,
+                               float max_full_share) {
   // The four corners for an overlay of w x h, top right first (where it has always been).
   auto corners = [&](float w, float h) {
     const float left = margin, right = window_width - margin - w;
@@ -27,6 +33,7 @@ OverlayPlacement place_overlay(const Rect& panel, float full_width, float full_h
   for (const bool compact : {false, true}) {
     const float w = compact ? compact_width : full_width, h = compact ? compact_height : full_height;
     if (w + 2 * margin > window_width || h + 2 * margin > window_height) continue;
+    if (!compact && w * h > max_full_share * window_width * window_height) continue;
     for (const Rect& r : corners(w, h))
       if (!has_panel || !overlaps(r, panel_with_gap)) return {r.x, r.y, compact};
   }

@@ -18,6 +18,8 @@ the camera held at each chosen key, the last frame compared) and the render cach
 0.75), the path's share of pixels over 0.2 (at most 0.3 %); and, for scale, the still view's
 share over 0.2 and a 1-spp ray trace of each chosen view (every pixel shaded once, `--mode
 raytrace --spp 1`, the same seed), its RMSE and its share over 0.2.
+--pace N: each key of the path N frames after the last (the path N times slower; 1, the default,
+is the bundled pace of about 6 degrees a frame); the frames compared are those at the chosen keys.
 --settle N: how fast the image settles once the camera stops, in the real loop. Each run follows
 the path and then holds the camera at its last view for N frames (a camera path file: the 60 keys,
 then the last again at frame 59 + N); the frames after the stop are compared with the last
@@ -78,6 +80,7 @@ def main():
     ap.add_argument("--budget", default="0.02")
     ap.add_argument("--targets", action="store_true")
     ap.add_argument("--settle", type=int, default=0)
+    ap.add_argument("--pace", type=int, default=1)
     a = ap.parse_args()
     if a.settle > 0:
         a.frames_at = "59"
@@ -87,7 +90,8 @@ def main():
     os.makedirs(a.refs, exist_ok=True)
     loop = "sync (every setting passes --sync)" if all("--sync" in t.split() for t in a.settings.split(",")) else \
         "async unless a setting passes --sync"
-    print(f"{size}, {loop}, budget {a.budget}, frames {a.frames_at} of each 60-frame path, seeds {a.seeds}, "
+    pace = f", each key {a.pace} frames after the last" if a.pace > 1 else ""
+    print(f"{size}, {loop}, budget {a.budget}, keys {a.frames_at} of each 60-key path{pace}, seeds {a.seeds}, "
           "64-spp references")
     if a.targets:
         print("| scene | setting | runs | path RMSE | still RMSE | render cache RMSE | path / still | path / render cache "
@@ -152,12 +156,7 @@ def settle_main(a):
                 work = tempfile.mkdtemp(prefix="epi_settle_")
                 try:
                     path_file = os.path.join(work, "settle.path")
-                    with open(path_file, "w") as f:
-                        for k, key in enumerate(keys + [keys[59]]):
-                            frame = k if k < 60 else 59 + a.settle
-                            f.write(f"camera {frame} eye {' '.join(repr(float(v)) for v in key['eye'])} "
-                                    f"target {' '.join(repr(float(v)) for v in key['target'])} "
-                                    f"up {' '.join(repr(float(v)) for v in key['up'])} fov {float(key['yfov'])!r}\n")
+                    write_path(path_file, keys + [keys[59]], lambda k: k if k < 60 else 59 + a.settle)
                     stats = os.path.join(work, "stats.json")
                     subprocess.run([a.epi, "render", scene, "--size", size, "--frames", str(60 + a.settle), "--camera-path",
                                     path_file, "--sample-budget", a.budget, "--seed", seed, "--quiet", "--no-speedup",
@@ -183,9 +182,18 @@ def settle_main(a):
                   " |", flush=True)
 
 
-def render(a, scene, size, seed, flags, work):
-    subprocess.run([a.epi, "render", scene, "--size", size, "--frames", "60", "--sample-budget", a.budget, "--seed", seed,
-                    "--quiet", "--no-speedup", "-o", os.path.join(work, "last.exr")] + flags,
+def write_path(file, keys, frame_of):
+    """A camera path file (`epi render --camera-path`) with key k at frame frame_of(k)."""
+    vec = lambda v: " ".join(repr(float(x)) for x in v)
+    with open(file, "w") as f:
+        for k, key in enumerate(keys):
+            f.write(f"camera {frame_of(k)} eye {vec(key['eye'])} target {vec(key['target'])} up {vec(key['up'])} "
+                    f"fov {float(key['yfov'])!r}\n")
+
+
+def render(a, scene, size, seed, flags, work, frames=60):
+    subprocess.run([a.epi, "render", scene, "--size", size, "--frames", str(frames), "--sample-budget", a.budget,
+                    "--seed", seed, "--quiet", "--no-speedup", "-o", os.path.join(work, "last.exr")] + flags,
                    check=True, stdout=subprocess.DEVNULL)
 
 
@@ -195,8 +203,13 @@ def along_path(a, scene, size, refs, flags):
     for seed in a.seeds.split(","):
         work = tempfile.mkdtemp(prefix="epi_along_")
         try:
-            render(a, scene, size, seed, flags + ["--frames-out", os.path.join(work, "f%d.exr")], work)
-            errors = [compare(a.epi, os.path.join(work, f"f{k}.exr"), refs[k]) for k in refs]
+            paced = []
+            if a.pace > 1:
+                write_path(os.path.join(work, "paced.path"), camera_path(scene), lambda k: k * a.pace)
+                paced = ["--camera-path", os.path.join(work, "paced.path")]
+            render(a, scene, size, seed, flags + paced + ["--frames-out", os.path.join(work, "f%d.exr")], work,
+                   frames=59 * a.pace + 1)
+            errors = [compare(a.epi, os.path.join(work, f"f{k * a.pace}.exr"), refs[k]) for k in refs]
         finally:
             shutil.rmtree(work)
         runs.append(tuple(statistics.mean(e[i] for e in errors) for i in range(3)))

@@ -56,6 +56,7 @@ TEST(OverlayLayout, MatchesABruteForceSearchOverRandomPanelsAndWindows) {
     SCOPED_TRACE(::testing::Message() << "trial " << trial << ": window " << window_w << "x" << window_h << ", panel "
                                       << panel.x << "," << panel.y << " " << panel.width << "x" << panel.height);
     const bool full_fits = fits_window(full_w, full_h, window_w, window_h) &&
+                           full_w * full_h <= 0.25f * window_w * window_h &&
                            least_overlap(panel, full_w, full_h, window_w, window_h, true) == 0;
     const bool compact_fits = fits_window(compact_w, compact_h, window_w, window_h) &&
                               least_overlap(panel, compact_w, compact_h, window_w, window_h, true) == 0;
@@ -96,10 +97,30 @@ TEST(OverlayLayout, TheDefaultWindowKeepsThePanelReadable) {
   EXPECT_FALSE(wide.compact);
   EXPECT_EQ(wide.x, 960 - 10 - 400);
   EXPECT_EQ(wide.y, 10);
-  // The panel hidden: top right whatever the size.
-  const OverlayPlacement hidden = place_overlay(Rect{}, 400, 230, 380, 40, 512, 512);
-  EXPECT_FALSE(hidden.compact);
-  EXPECT_EQ(hidden.x, 512 - 10 - 400);
+  // The panel hidden or folded to its title bar (348x20): top right, compact at 512x512, where the
+  // full form would hide 35 % of the image; full from about 610x610.
+  for (const Rect folded : {Rect{}, Rect{10, 10, 348, 20}}) {
+    const OverlayPlacement small = place_overlay(folded, 400, 230, 380, 40, 512, 512);
+    EXPECT_TRUE(small.compact);
+    EXPECT_EQ(small.x, 512 - 10 - 380);
+    EXPECT_EQ(small.y, folded.width > 0 ? 512 - 10 - 40 : 10);
+    const OverlayPlacement large = place_overlay(folded, 400, 230, 380, 40, 620, 620);
+    EXPECT_FALSE(large.compact);
+  }
+}
+
+TEST(OverlayLayout, ThePanelStartsCollapsedOnlyWhereItWouldHideMuchOfTheImage) {
+  const Rect panel{10, 10, 345, 440};  // as drawn open at the monitor scale 1
+  EXPECT_TRUE(panel_starts_collapsed(panel, 512, 512));    // the default window: 58 % hidden
+  EXPECT_TRUE(panel_starts_collapsed(panel, 96, 72));      // a tiny window: all of it
+  EXPECT_FALSE(panel_starts_collapsed(panel, 1280, 720));  // 16 %
+  EXPECT_FALSE(panel_starts_collapsed(panel, 960, 600));   // 26 %
+  EXPECT_FALSE(panel_starts_collapsed(panel, 700, 700));   // 31 %
+  EXPECT_TRUE(panel_starts_collapsed(panel, 640, 480));    // 49 %
+  // Only the part inside the window counts; an empty window or panel never collapses it.
+  EXPECT_FALSE(panel_starts_collapsed(Rect{900, 900, 345, 440}, 1000, 1000));
+  EXPECT_FALSE(panel_starts_collapsed(Rect{}, 512, 512));
+  EXPECT_FALSE(panel_starts_collapsed(panel, 0, 0));
 }
 
 TEST(OverlayLayout, ATallPanelSendsTheOverlayBelowOrBeside) {
