@@ -467,11 +467,19 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
       std::vector<uint32_t>& list = hole_bands_[size_t(band)];
       list.clear();
       const size_t begin = size_t(band) * kBandRows * size_t(w), end = std::min(n, begin + kBandRows * size_t(w));
-      for (size_t i = begin; i != end; ++i) {
-        const bool hole = (priority[i] >= kMaxPriority) & (rgb[3 * i] == 0.0f) & (rgb[3 * i + 1] == 0.0f) & (rgb[3 * i + 2] == 0.0f);
-        const bool on_barrier = (edges[i] & (kDepthEdge | kSharpEdge)) != 0;
-        barrier[i] = on_barrier, state[i] = hole_state(hole, on_barrier);
-        if (hole) list.push_back(uint32_t(i));  // rare: the branch predicts
+      // Plain loops the compiler vectorizes; holes (top priority: no sample reached, and black)
+      // are rare, so only chunks with a top-priority pixel are looked at pixel by pixel.
+      for (size_t i = begin; i != end; ++i) barrier[i] = (edges[i] & (kDepthEdge | kSharpEdge)) != 0;
+      std::fill(state + begin, state + end, hole_state(false, false));
+      constexpr size_t kChunk = 64;
+      for (size_t c = begin; c < end; c += kChunk) {
+        const size_t c_end = std::min(end, c + kChunk);
+        int top = 0;
+        for (size_t i = c; i != c_end; ++i) top += priority[i] >= kMaxPriority;
+        if (top == 0) continue;
+        for (size_t i = c; i != c_end; ++i)
+          if (priority[i] >= kMaxPriority && rgb[3 * i] == 0.0f && rgb[3 * i + 1] == 0.0f && rgb[3 * i + 2] == 0.0f)
+            state[i] = hole_state(true, barrier[i] != 0), list.push_back(uint32_t(i));
       }
     });
     hole_scratch_.holes.clear();
