@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include <tbb/parallel_for.h>
+
+#include "epi/interpolate.h"
+
 namespace epi::render {
 
 size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<const uint8_t> barrier) {
@@ -122,6 +126,43 @@ size_t fill_listed_holes(RgbImage& image, std::span<const uint8_t> barrier, Hole
     front.swap(next);
   }
   return filled;
+}
+
+void list_holes(const RgbImage& image, std::span<const float> priority, std::span<const uint8_t> edge_flags,
+                uint8_t barrier_bits, std::vector<uint8_t>& barrier, HoleFillScratch& scratch) {
+  const int w = image.width, h = image.height;
+  const size_t n = size_t(w) * size_t(h);
+  if (priority.size() != n || edge_flags.size() != n) throw std::invalid_argument("list_holes: mask size differs from the image");
+  constexpr int kBandRows = 16;
+  const int bands = (h + kBandRows - 1) / kBandRows;
+  barrier.resize(n), scratch.state.resize(n), scratch.band_holes.resize(size_t(bands));
+  tbb::parallel_for(0, bands, [&](int band) {
+    // Local pointers: the byte stores below may alias anything, members would be reloaded.
+    const float* const top = priority.data();
+    const float* const rgb = image.pixels.data();
+    const uint8_t* const edges = edge_flags.data();
+    uint8_t* const barrier_out = barrier.data();
+    uint8_t* const state = scratch.state.data();
+    std::vector<uint32_t>& list = scratch.band_holes[size_t(band)];
+    list.clear();
+    const size_t begin = size_t(band) * kBandRows * size_t(w), end = std::min(n, begin + kBandRows * size_t(w));
+    // Plain loops the compiler vectorizes; holes are rare, so only chunks with a top-priority
+    // pixel are looked at pixel by pixel.
+    for (size_t i = begin; i != end; ++i) barrier_out[i] = (edges[i] & barrier_bits) != 0;
+    std::fill(state + begin, state + end, hole_state(false, false));
+    constexpr size_t kChunk = 64;
+    for (size_t c = begin; c < end; c += kChunk) {
+      const size_t c_end = std::min(end, c + kChunk);
+      int at_top = 0;
+      for (size_t i = c; i != c_end; ++i) at_top += top[i] >= kMaxPriority;
+      if (at_top == 0) continue;
+      for (size_t i = c; i != c_end; ++i)
+        if (top[i] >= kMaxPriority && rgb[3 * i] == 0.0f && rgb[3 * i + 1] == 0.0f && rgb[3 * i + 2] == 0.0f)
+          state[i] = hole_state(true, barrier_out[i] != 0), list.push_back(uint32_t(i));
+    }
+  });
+  scratch.holes.clear();
+  for (const std::vector<uint32_t>& list : scratch.band_holes) scratch.holes.insert(scratch.holes.end(), list.begin(), list.end());
 }
 
 }  // namespace epi::render

@@ -22,6 +22,7 @@ namespace epi::render {
 struct HoleFillScratch {
   std::vector<uint8_t> state;
   std::vector<uint32_t> front, next, ring, last, holes;
+  std::vector<std::vector<uint32_t>> band_holes;  // list_holes: each band's holes
 };
 size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<const uint8_t> barrier,
                   HoleFillScratch& scratch);
@@ -32,5 +33,12 @@ size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<con
 // whose state is not 0, ascending. The same image as fill_holes.
 inline uint8_t hole_state(bool hole, bool on_barrier) { return uint8_t(uint32_t(hole) * (1u + uint32_t(on_barrier))); }
 size_t fill_listed_holes(RgbImage& image, std::span<const uint8_t> barrier, HoleFillScratch& scratch);
+
+// The renderer's set-up of fill_listed_holes, in one pass over bands of rows in parallel. A hole
+// is a pixel of `image` at top priority (`priority` >= kMaxPriority: no sample reached) that is
+// black; a barrier, a pixel whose `edge_flags` has a bit of `barrier_bits`. Writes `barrier`
+// (0 or 1 per pixel), scratch.state and scratch.holes (ascending: the bands' lists joined in order).
+void list_holes(const RgbImage& image, std::span<const float> priority, std::span<const uint8_t> edge_flags,
+                uint8_t barrier_bits, std::vector<uint8_t>& barrier, HoleFillScratch& scratch);
 
 }  // namespace epi::render

@@ -450,40 +450,7 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   // Epi mode: pixels that reached no sample (black, top priority) filled from their own region.
   if (settings_.mode == RenderMode::epi && settings_.fill_holes) {
     const auto tf = Clock::now();
-    // The holes found, their barrier flags and the fill's set-up in one pass (bands of rows in
-    // parallel, each listing its holes; the lists joined in order: the fill's ascending list).
-    const int w = settings_.width, h = settings_.height;
-    const size_t n = reconstruction_.priority.size();
-    constexpr int kBandRows = 16;
-    const int bands = (h + kBandRows - 1) / kBandRows;
-    barrier_.resize(n), hole_scratch_.state.resize(n), hole_bands_.resize(size_t(bands));
-    tbb::parallel_for(0, bands, [&](int band) {
-      // Local pointers: the byte stores below may alias anything, members would be reloaded.
-      const float* const priority = reconstruction_.priority.data();
-      const float* const rgb = reconstruction_.image.pixels.data();
-      const uint8_t* const edges = edge_pixels_.data();
-      uint8_t* const barrier = barrier_.data();
-      uint8_t* const state = hole_scratch_.state.data();
-      std::vector<uint32_t>& list = hole_bands_[size_t(band)];
-      list.clear();
-      const size_t begin = size_t(band) * kBandRows * size_t(w), end = std::min(n, begin + kBandRows * size_t(w));
-      // Plain loops the compiler vectorizes; holes (top priority: no sample reached, and black)
-      // are rare, so only chunks with a top-priority pixel are looked at pixel by pixel.
-      for (size_t i = begin; i != end; ++i) barrier[i] = (edges[i] & (kDepthEdge | kSharpEdge)) != 0;
-      std::fill(state + begin, state + end, hole_state(false, false));
-      constexpr size_t kChunk = 64;
-      for (size_t c = begin; c < end; c += kChunk) {
-        const size_t c_end = std::min(end, c + kChunk);
-        int top = 0;
-        for (size_t i = c; i != c_end; ++i) top += priority[i] >= kMaxPriority;
-        if (top == 0) continue;
-        for (size_t i = c; i != c_end; ++i)
-          if (priority[i] >= kMaxPriority && rgb[3 * i] == 0.0f && rgb[3 * i + 1] == 0.0f && rgb[3 * i + 2] == 0.0f)
-            state[i] = hole_state(true, barrier[i] != 0), list.push_back(uint32_t(i));
-      }
-    });
-    hole_scratch_.holes.clear();
-    for (const std::vector<uint32_t>& list : hole_bands_) hole_scratch_.holes.insert(hole_scratch_.holes.end(), list.begin(), list.end());
+    list_holes(reconstruction_.image, reconstruction_.priority, edge_pixels_, kDepthEdge | kSharpEdge, barrier_, hole_scratch_);
     // No hole (the usual frame at rest): nothing to fill.
     stats_.holes_filled = hole_scratch_.holes.empty() ? 0 : fill_listed_holes(reconstruction_.image, barrier_, hole_scratch_);
     stats_.ms[FrameStage::interpolate] += ms_since(tf);

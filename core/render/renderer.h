@@ -223,7 +223,6 @@ class FrameRenderer {
   EdgeCrossings crossings_;           // the same edges' barrier pieces, for the occlusion test
   std::vector<uint8_t> edge_pixels_;  // pixels crossed by edges, by kind (point_cache.h)
   std::vector<uint8_t> barrier_;  // hole filling
-  std::vector<std::vector<uint32_t>> hole_bands_;  // ... the holes of each band of rows
   HoleFillScratch hole_scratch_;
   SparseBlendScratch sparse_scratch_;
   // Predictive sampling's per-frame scratch: predicted occupancy (then the gaps), depth sums per

@@ -7,6 +7,7 @@
 
 #include <tbb/global_control.h>
 
+#include "epi/interpolate.h"
 #include "render/hole_fill.h"
 
 namespace epi::render {
@@ -191,6 +192,54 @@ TEST(HoleFill, EqualsTheDefinitionOnRandomImages) {
     }
   }
   EXPECT_GT(filled_total, 2000);
+}
+
+// The renderer's pass (list_holes, then fill_listed_holes) against the per-pixel definition of a
+// hole and a barrier fed to fill_holes: random reconstructions where some top-priority pixels are
+// black (holes) and some are not, and random edge flags of which only some bits are barriers;
+// sizes around the pass's 16-row bands and 64-pixel chunks, one and two threads.
+TEST(HoleFill, TheRenderersListingEqualsThePerPixelDefinition) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  const uint8_t barrier_bits = 1 | 4;
+  size_t holes_total = 0;
+  for (const int threads : {1, 2})
+    for (const auto& [w, h] : std::vector<std::pair<int, int>>{{1, 1}, {1, 40}, {40, 1}, {63, 17}, {64, 16}, {65, 33}, {130, 97}}) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+      const size_t n = size_t(w) * size_t(h);
+      RgbImage image(w, h);
+      std::vector<float> priority(n);
+      std::vector<uint8_t> flags(n), holes(n), barrier(n);
+      const float hole_share = u(rng) * 0.3f;
+      for (size_t i = 0; i < n; ++i) {
+        const bool top = u(rng) < hole_share;
+        priority[i] = top ? (u(rng) < 0.5f ? kMaxPriority : kMaxPriority * 2.0f) : u(rng) * kMaxPriority * 0.999f;
+        const bool black = top ? u(rng) < 0.8f : u(rng) < 0.1f;  // black below the top: no hole
+        for (int c = 0; c < 3; ++c) image.pixels[i * 3 + size_t(c)] = black ? 0.0f : (u(rng) < 0.3f ? 0.0f : u(rng));
+        if (!black && image.pixels[i * 3] == 0.0f && image.pixels[i * 3 + 1] == 0.0f && image.pixels[i * 3 + 2] == 0.0f)
+          image.pixels[i * 3 + 1] = 0.5f;
+        flags[i] = uint8_t(rng() & 7u);
+        holes[i] = top && black;
+        barrier[i] = (flags[i] & barrier_bits) != 0;
+        holes_total += holes[i];
+      }
+      RgbImage expected = image, listed = image;
+      const size_t filled = fill_holes(expected, holes, barrier);
+      HoleFillScratch scratch;
+      std::vector<uint8_t> barrier_out;
+      for (int round = 0; round < 2; ++round) {  // the scratch reused, as the renderer does
+        listed = image;
+        list_holes(listed, priority, flags, barrier_bits, barrier_out, scratch);
+        EXPECT_EQ(barrier_out, barrier) << w << "x" << h;
+        std::vector<uint32_t> want;
+        for (size_t i = 0; i < n; ++i)
+          if (holes[i]) want.push_back(uint32_t(i));
+        EXPECT_EQ(scratch.holes, want) << w << "x" << h;
+        EXPECT_EQ(fill_listed_holes(listed, barrier_out, scratch), filled) << w << "x" << h;
+        EXPECT_EQ(listed.pixels, expected.pixels) << w << "x" << h;
+      }
+    }
+  EXPECT_GT(holes_total, 1000u);
 }
 
 }  // namespace
