@@ -5,8 +5,10 @@
 //                           random, as in a frame's point image). args: width, height, empty %, threads.
 //   BM_PredictedOccupancy   predictive sampling's splat of 1/stride of a cloud of 1.15 points per
 //                           pixel into the view a few frames ahead. args: width, height, stride, threads.
-//   BM_FillHoles            the hole fill after fast motion: `holes` per mille of the pixels in
-//                           blobs of up to 8x8, one barrier column in 16. args: width, height, holes ‰, threads.
+//   BM_FillHoles            the hole fill after fast motion as the renderer runs it (list_holes, then
+//                           fill_listed_holes): `holes` per mille of the pixels in blobs of up to
+//                           8x8, one barrier column in 16; 0: the listing pass alone, the usual frame
+//                           at rest. args: width, height, holes ‰, threads.
 //   BM_SparseBlend          the sparse regions' blend (sparse_blend.h) over an EPI holding a sample in
 //                           `density` percent of its pixels at random, barriers along one row and
 //                           one column in 32; kernel 0: the scalar oracle (sparse_blend_reference),
@@ -23,8 +25,10 @@
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>
 
+#include "epi/interpolate.h"
 #include "render/edge_projection.h"
 #include "render/hole_fill.h"
+#include "render/point_cache.h"
 #include "render/sampling.h"
 #include "render/sparse_blend.h"
 
@@ -121,26 +125,34 @@ void BM_FillHoles(benchmark::State& state) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   RgbImage image(w, h);
   for (float& v : image.pixels) v = u(rng);
-  std::vector<uint8_t> holes(size_t(w) * size_t(h), 0), barrier(holes.size(), 0);
-  const size_t blobs = holes.size() * size_t(state.range(2)) / 1000 / 20;  // blobs of ~20 pixels on average
+  const size_t n = size_t(w) * size_t(h);
+  std::vector<float> priority(n);
+  for (float& p : priority) p = u(rng) * 8.0f;
+  std::vector<uint8_t> edge_flags(n, 0), barrier;
+  const size_t blobs = n * size_t(state.range(2)) / 1000 / 20;  // blobs of ~20 pixels on average
   for (size_t b = 0; b < blobs; ++b) {
     const int x0 = int(u(rng) * float(w)), y0 = int(u(rng) * float(h)), bw = 1 + int(u(rng) * 8), bh = 1 + int(u(rng) * 8);
     for (int y = y0; y < std::min(h, y0 + bh); ++y)
-      for (int x = x0; x < std::min(w, x0 + bw); ++x) holes[size_t(y) * size_t(w) + size_t(x)] = 1;
+      for (int x = x0; x < std::min(w, x0 + bw); ++x) {
+        const size_t i = size_t(y) * size_t(w) + size_t(x);
+        priority[i] = kMaxPriority;  // a hole: top priority and black, as the filters leave it
+        std::fill_n(image.pixels.begin() + ptrdiff_t(3 * i), 3, 0.0f);
+      }
   }
   for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; x += 16) barrier[size_t(y) * size_t(w) + size_t(x)] = 1;
+    for (int x = 0; x < w; x += 16) edge_flags[size_t(y) * size_t(w) + size_t(x)] = kDepthEdge;
   HoleFillScratch scratch;
   RgbImage work = image;
   for (auto _ : state) {
     state.PauseTiming();
     work.pixels = image.pixels;
     state.ResumeTiming();
-    benchmark::DoNotOptimize(fill_holes(work, holes, barrier, scratch));
+    list_holes(work, priority, edge_flags, kDepthEdge | kSharpEdge, barrier, scratch);
+    benchmark::DoNotOptimize(scratch.holes.empty() ? 0 : fill_listed_holes(work, barrier, scratch));
   }
   state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(w) * int64_t(h));  // pixels per second
 }
-BENCHMARK(BM_FillHoles)->ArgsProduct({{1920}, {1080}, {5, 50}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FillHoles)->ArgsProduct({{1920}, {1080}, {0, 5, 50}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_SparseBlend(benchmark::State& state) {
   const int w = int(state.range(0)), h = int(state.range(1));
