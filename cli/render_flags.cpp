@@ -140,7 +140,8 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
         ->check(CLI::Range(2, 15));
     app.add_option("--predict-share", render.predict_share,
                    "Predictive sampling: at most this share of the budget goes to the gaps the camera, "
-                   "extrapolated ahead, is about to open (docs/render.md, \"Sampling\"). Default 0.25; 0 turns it off")
+                   "extrapolated ahead, is about to open (docs/render.md, \"Sampling\"). Default 0: off (0.25 was the "
+                   "default until the paths measured better without it)")
         ->check(kFinite & CLI::Range(0.0, 1.0));
     app.add_option("--predict-frames", render.predict_frames,
                    "Predictive sampling: how many frames ahead the camera is extrapolated. Default 4")

@@ -54,7 +54,10 @@ struct FrameSettings {
   // fused, tiled row stream (same image, faster; its time is reported under interpolate).
   bool stage_timings = true;
   PointCacheSettings cache;
-  float predict_share = 0.25f;  // at most this share of the budget goes to predicted gaps
+  // At most this share of the budget goes to predicted gaps. Off by default: along the bundled
+  // paths, at 1, 1/4 and 1/10 of their pace, the whole budget on the priority image measured as
+  // good or better on every scene (render.md, "Sampling"); 0.25 was the default until 2026-11-27.
+  float predict_share = 0.0f;
   float predict_frames = 4.0f;  // how far ahead the camera is extrapolated
   int predict_stride = 8;       // predictive projection uses 1/stride of the points ...
   int predict_splat = 5;        // ... as splat x splat squares (8 and 5: the same quality as 2 and 3

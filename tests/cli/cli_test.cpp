@@ -292,9 +292,9 @@ TEST(Cli, TheDefaultModeIsTheEdgeAndPointRenderer) {
 }
 
 // --predict-share, --predict-frames, --predict-stride and --predict-splat reach the frame loop:
-// along the Cornell box's path the default sends part of each frame's budget to predicted gaps;
-// a share of 0, or extrapolating 0 frames ahead (the predicted view is the current one: no gap
-// outside it), sends none. With the whole budget allowed, every point projected as a 15-pixel
+// along the Cornell box's path a share of 0.25 sends part of each frame's budget to predicted
+// gaps; the default (off), or extrapolating 0 frames ahead (the predicted view is the current
+// one: no gap outside it), sends none. With the whole budget allowed, every point projected as a 15-pixel
 // square covers more of the view ahead than 1 point in 64 does, or every point as one pixel:
 // fewer gaps.
 TEST(Cli, PredictiveSamplingFlagsReachTheRenderer) {
@@ -306,9 +306,9 @@ TEST(Cli, PredictiveSamplingFlagsReachTheRenderer) {
     EXPECT_EXIT_CODE(run, 0);
     return read_json(stats)["predicted_per_frame"].get<double>();
   };
-  EXPECT_GT(predicted(""), 0.0);
-  EXPECT_EQ(predicted(" --predict-share 0"), 0.0);
-  EXPECT_EQ(predicted(" --predict-frames 0"), 0.0);
+  EXPECT_EQ(predicted(""), 0.0);  // off by default
+  EXPECT_GT(predicted(" --predict-share 0.25"), 0.0);
+  EXPECT_EQ(predicted(" --predict-share 0.25 --predict-frames 0"), 0.0);
   const double covered = predicted(" --predict-share 1 --predict-stride 1 --predict-splat 15");
   EXPECT_LT(covered, predicted(" --predict-share 1 --predict-stride 64 --predict-splat 15"));
   EXPECT_LT(covered, predicted(" --predict-share 1 --predict-stride 1 --predict-splat 1"));

@@ -54,6 +54,7 @@ TEST(FrameLoop, SyncRunsAreDeterministicForASeed) {
       Fixture f;
       FrameSettings s = small_settings(mode);
       s.seed = seed;
+      s.predict_share = 0.25f;  // (off by default)
       FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
       Camera camera = f.scene.cameras[0];
       for (int k = 0; k < 6; ++k) {
@@ -168,6 +169,7 @@ TEST(FrameLoop, SyncShadesExactlyTheBudgetEveryFrame) {
     Fixture f;
     FrameSettings s = small_settings(RenderMode::epi);
     s.sync_as_async = as_async;  // the last frame's requests, chosen for its view: still the budget
+    s.predict_share = 0.25f;     // predicted requests are part of the budget
     FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
     Camera camera = f.scene.cameras[0];
     const size_t budget = size_t(std::round(0.05 * 64 * 64));
