@@ -2,10 +2,10 @@
 // so tests call it directly (tests/viewer/overlay_layout_test.cpp).
 //
 // The overlay tries the window's four corners, top right first, in its full form and then in its
-// compact form (two lines, no graph); a small window gets the compact form only. A free rectangle of the overlay's size exists beside a
-// rectangular panel only in a strip that spans the whole window (left, right, above or below the
-// panel), and such a strip always holds one of the window's corners, so the corners are the only
-// places worth trying. When neither form fits anywhere, the compact one goes to the corner that
+// compact form (two lines, no graph); a small window gets the compact form only. A free
+// rectangle of the overlay's size exists beside a rectangular panel only in a strip that spans the
+// whole window (left, right, above or below the panel), and such a strip always holds one of the
+// window's corners, so the corners are the only places worth trying. When neither form fits anywhere, the compact one goes to the corner that
 // overlaps the panel least.
 #pragma once
 

@@ -12,7 +12,6 @@
 #include <tbb/parallel_reduce.h>
 #include <tbb/task_arena.h>
 
-#include "epi/interpolate.h"
 #include "render/hole_fill.h"
 #include "render/sampling.h"
 

@@ -294,9 +294,9 @@ TEST(Cli, TheDefaultModeIsTheEdgeAndPointRenderer) {
 // --predict-share, --predict-frames, --predict-stride and --predict-splat reach the frame loop:
 // along the Cornell box's path a share of 0.25 sends part of each frame's budget to predicted
 // gaps; the default (off), or extrapolating 0 frames ahead (the predicted view is the current
-// one: no gap outside it), sends none. With the whole budget allowed, every point projected as a 15-pixel
-// square covers more of the view ahead than 1 point in 64 does, or every point as one pixel:
-// fewer gaps.
+// one: no gap outside it), sends none. With the whole budget allowed, every point projected as a
+// 15-pixel square covers more of the view ahead than 1 point in 64 does, or every point as one
+// pixel: fewer gaps.
 TEST(Cli, PredictiveSamplingFlagsReachTheRenderer) {
   const fs::path dir = temp_dir("predict");
   auto predicted = [&](const std::string& flags) {
