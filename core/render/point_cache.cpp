@@ -470,13 +470,56 @@ void PointCache::choose_evict_age(size_t needed) {
 
 int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, const glm::vec3& last_world,
                                 std::span<const glm::mat4> object_to_world, HiddenSearch* trace) const {
+  HiddenSearch local;
+  HiddenSearch& search = trace ? *trace : local;
+  const int listed = hidden_candidates(shot, r, last_frame_->project(last_world), search.pixels);
+  first_hidden(shot, r, object_to_world, listed, search);
+  return search.found;
+}
+
+int PointCache::hidden_candidates(const ViewFrame& shot, const ShadeResult& r, const Projection& p0,
+                                  std::array<uint32_t, HiddenSearch::kMaxPixels>& pixels) const {
   // Candidates: the z-buffer winners of the last projection near where the shot's ray runs in it,
-  // from the hit (3x3 around it) along the ray's image towards its vanishing point (parallax when
-  // the eye moved), at most kMaxWalk pixels.
-  constexpr float kRadius = 0.35f;   // the ray's evidence covers this far around it, pixels
-  constexpr float kMargin = 0.05f;    // relative depth behind the hit
+  // from the hit (3x3 around it, p0) along the ray's image towards its vanishing point (parallax
+  // when the eye moved), at most kMaxWalk pixels.
   constexpr float kMaxWalk = 8.0f;
   const int w = image_.width, h = image_.height;
+  int listed = 0;
+  auto list = [&](int x, int y) {
+    if (x >= 0 && y >= 0 && x < w && y < h) pixels[size_t(listed++)] = uint32_t(image_.index(x, y));
+  };
+  // In front, and near the image (a hit close to the last eye's plane projects far away, or to
+  // non-finite pixels: converting those to int would be undefined).
+  if (!p0.in_front() || !(p0.pixel.x > -2.0f && p0.pixel.y > -2.0f && p0.pixel.x < float(w) + 2.0f &&
+                          p0.pixel.y < float(h) + 2.0f))
+    return 0;
+  const int x0 = int(std::floor(p0.pixel.x)), y0 = int(std::floor(p0.pixel.y));
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) list(x0 + dx, y0 + dy);
+  const glm::vec3 dir = shot.ray(r.x, r.y).direction;
+  const Projection p1 = last_frame_->project(last_frame_->eye() + dir * background_depth_);
+  if (!p1.in_front()) return listed;
+  glm::vec2 d = p1.pixel - p0.pixel;
+  if (!std::isfinite(d.x) || !std::isfinite(d.y)) return listed;
+  const float length = std::min(glm::length(d), kMaxWalk);
+  if (!(length >= 1.0f)) return listed;
+  d = glm::normalize(d);
+  int last_x = x0, last_y = y0;
+  for (float t = 0.5f; t <= length; t += 0.5f) {
+    const glm::vec2 c = p0.pixel + d * t;
+    const int x = int(std::floor(c.x)), y = int(std::floor(c.y));
+    if (x == last_x && y == last_y) continue;
+    last_x = x, last_y = y;
+    if (std::abs(x - x0) <= 1 && std::abs(y - y0) <= 1) continue;
+    list(x, y);
+  }
+  return listed;
+}
+
+void PointCache::first_hidden(const ViewFrame& shot, const ShadeResult& r, std::span<const glm::mat4> object_to_world,
+                              int listed, HiddenSearch& search) const {
+  constexpr float kRadius = 0.35f;  // the ray's evidence covers this far around it, pixels
+  constexpr float kMargin = 0.05f;  // relative depth behind the hit
   const Projection hit_shot = shot.project(r.position);
   const glm::vec2 sample(r.x, r.y);
   auto hidden = [&](int32_t q) {
@@ -486,41 +529,12 @@ int32_t PointCache::find_hidden(const ViewFrame& shot, const ShadeResult& r, con
     const Projection pq = shot.project(world_position(p, shot, object_to_world));
     return pq.depth > hit_shot.depth * (1.0f + kMargin) && glm::distance(pq.pixel, sample) <= kRadius;
   };
-  auto check = [&](int x, int y) -> int32_t {
-    if (x < 0 || y < 0 || x >= w || y >= h) return -1;
-    if (trace) trace->pixels[size_t(trace->count++)] = uint32_t(image_.index(x, y));
-    const int32_t q = winners_[image_.index(x, y)];
-    return hidden(q) ? q : -1;
-  };
-  if (trace) trace->count = 0;
-  const Projection p0 = last_frame_->project(last_world);
-  // In front, and near the image (a hit close to the last eye's plane projects far away, or to
-  // non-finite pixels: converting those to int would be undefined).
-  if (!p0.in_front() || !(p0.pixel.x > -2.0f && p0.pixel.y > -2.0f && p0.pixel.x < float(w) + 2.0f &&
-                          p0.pixel.y < float(h) + 2.0f))
-    return -1;
-  const int x0 = int(std::floor(p0.pixel.x)), y0 = int(std::floor(p0.pixel.y));
-  for (int dy = -1; dy <= 1; ++dy)
-    for (int dx = -1; dx <= 1; ++dx)
-      if (const int32_t q = check(x0 + dx, y0 + dy); q >= 0) return q;
-  const glm::vec3 dir = shot.ray(r.x, r.y).direction;
-  const Projection p1 = last_frame_->project(last_frame_->eye() + dir * background_depth_);
-  if (!p1.in_front()) return -1;
-  glm::vec2 d = p1.pixel - p0.pixel;
-  if (!std::isfinite(d.x) || !std::isfinite(d.y)) return -1;
-  const float length = std::min(glm::length(d), kMaxWalk);
-  if (!(length >= 1.0f)) return -1;
-  d = glm::normalize(d);
-  int last_x = x0, last_y = y0;
-  for (float t = 0.5f; t <= length; t += 0.5f) {
-    const glm::vec2 c = p0.pixel + d * t;
-    const int x = int(std::floor(c.x)), y = int(std::floor(c.y));
-    if (x == last_x && y == last_y) continue;
-    last_x = x, last_y = y;
-    if (std::abs(x - x0) <= 1 && std::abs(y - y0) <= 1) continue;
-    if (const int32_t q = check(x, y); q >= 0) return q;
-  }
-  return -1;
+  search.found = -1, search.count = listed;
+  for (int k = 0; k < listed; ++k)
+    if (const int32_t q = winners_[search.pixels[size_t(k)]]; hidden(q)) {
+      search.found = q, search.count = k + 1;
+      return;
+    }
 }
 
 void PointCache::prepare_result(const ViewFrame& shot, const ShadeResult& r, std::span<const glm::mat4> object_to_world,
@@ -556,9 +570,18 @@ void PointCache::prepare_result(const ViewFrame& shot, const ShadeResult& r, std
     point.local = shot.ray(r.x, r.y).direction;
     out.world = shot.eye() + point.local * background_depth_;
   }
+  out.last_pixel = -1, out.listed = 0;
+  if (last_frame_) {
+    out.last = last_frame_->project(out.world);
+    const Projection& p = out.last;
+    const int w = image_.width, h = image_.height;
+    if (p.in_front() && p.pixel.x >= 0.0f && p.pixel.y >= 0.0f && p.pixel.x < float(w) && p.pixel.y < float(h))
+      out.last_pixel = int32_t(image_.index(std::min(w - 1, int(p.pixel.x)), std::min(h - 1, int(p.pixel.y))));
+  }
+  // The hidden point's search: its pixels listed here, read by first_hidden (insert).
   out.hidden.found = -1, out.hidden.count = 0;
   if (search_hidden && last_frame_ && r.hit && point.object != kNone)
-    out.hidden.found = find_hidden(shot, r, out.world, object_to_world, &out.hidden);
+    out.listed = hidden_candidates(shot, r, out.last, out.hidden.pixels);
 }
 
 bool PointCache::search_outdated(const HiddenSearch& search) const {
@@ -584,10 +607,25 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
   // changed since is made again, so the cache ends as the serial loop leaves it (docs/render.md,
   // "Points": insertion in two phases).
   const bool search_ahead = !settings_.reference_path;
-  prepared_.resize(batch.results.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, batch.results.size(), 256), [&](const tbb::blocked_range<size_t>& range) {
-    for (size_t k = range.begin(); k < range.end(); ++k)
-      prepare_result(shot, batch.results[k], object_to_world, epoch, search_ahead, prepared_[k]);
+  const size_t results = batch.results.size();
+  prepared_.resize(results);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, results, 256), [&](const tbb::blocked_range<size_t>& range) {
+    // A few results at a time, each step over all of them: their points and the pixels their
+    // searches may read, then those pixels' winners, then the winners' records (both read at
+    // random: each step prefetches what the next reads, so the misses overlap), then the verdicts.
+    constexpr size_t kChunk = 16;
+    for (size_t c = range.begin(); c < range.end(); c += kChunk) {
+      const size_t e = std::min(c + kChunk, range.end());
+      for (size_t k = c; k < e; ++k) {
+        prepare_result(shot, batch.results[k], object_to_world, epoch, search_ahead, prepared_[k]);
+        for (int i = 0; i < prepared_[k].listed; ++i) __builtin_prefetch(&winners_[prepared_[k].hidden.pixels[size_t(i)]]);
+      }
+      for (size_t k = c; k < e; ++k)
+        for (int i = 0; i < prepared_[k].listed; ++i)
+          if (const int32_t q = winners_[prepared_[k].hidden.pixels[size_t(i)]]; q >= 0) __builtin_prefetch(&points_[size_t(q)]);
+      for (size_t k = c; k < e; ++k)
+        if (prepared_[k].listed > 0) first_hidden(shot, batch.results[k], object_to_world, prepared_[k].listed, prepared_[k].hidden);
+    }
   });
   slot_touched_.resize(points_.size());
   pixel_touched_.resize(winners_.size());
@@ -596,7 +634,25 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
   };
 
   size_t inserted = 0;
-  for (size_t k = 0; k < batch.results.size(); ++k) {
+  for (size_t k = 0; k < results; ++k) {
+    // The records this loop reads lie at random: the pixels a result lands in are prefetched 16
+    // results ahead, the points they hold 8 ahead (results in between may change which: only a
+    // prefetch). Written in the loop: GCC 12 dropped the calls to a lambda holding only these.
+    if (k + 32 < results)
+      if (const int32_t pixel = prepared_[k + 32].last_pixel; pixel >= 0) {
+        __builtin_prefetch(&image_.point[size_t(pixel)]);
+        __builtin_prefetch(&image_.depth[size_t(pixel)]);
+        __builtin_prefetch(&winners_[size_t(pixel)]);
+      }
+    if (k + 16 < results) {
+      const PreparedResult& next = prepared_[k + 16];
+      if (next.last_pixel >= 0) {
+        if (const int32_t old = image_.point[size_t(next.last_pixel)]; old >= 0)
+          __builtin_prefetch(&points_[size_t(old)]), __builtin_prefetch(&colours_[size_t(old)]);
+        if (const int32_t winner = winners_[size_t(next.last_pixel)]; winner >= 0) __builtin_prefetch(&points_[size_t(winner)]);
+      }
+      if (next.hidden.found >= 0) __builtin_prefetch(&points_[size_t(next.hidden.found)]);
+    }
     const ShadeResult& r = batch.results[k];
     const CachePoint& point = prepared_[k].point;
     const PointColour& colour = prepared_[k].colour;
@@ -606,10 +662,9 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
     int32_t replace = -1;
     bool in_front_of_drawn = false;  // a new occluder (PointCacheSettings::new_occluder_radius)
     if (last_frame_) {
-      const Projection proj = last_frame_->project(world);
-      if (proj.in_front() && proj.pixel.x >= 0.0f && proj.pixel.y >= 0.0f && proj.pixel.x < float(w) &&
-          proj.pixel.y < float(h)) {
-        const int px = std::min(w - 1, int(proj.pixel.x)), py = std::min(h - 1, int(proj.pixel.y));
+      const Projection& proj = prepared_[k].last;
+      if (const int32_t last_pixel = prepared_[k].last_pixel; last_pixel >= 0) {
+        const int px = last_pixel % w, py = last_pixel / w;
         const int32_t old = image_.point[image_.index(px, py)];
         // The z-buffer's winner, before the culls: where the occlusion test emptied a pixel behind a
         // new occluder's earlier samples, the result still lands in front of what was there.

@@ -278,6 +278,9 @@ class PointCache {
     CachePoint point;
     PointColour colour;
     glm::vec3 world;  // where the point's surface was at the last projection
+    Projection last;  // `world` in the last projection (when there is one)
+    int32_t last_pixel = -1;  // the pixel `last` lands in; -1 behind the eye or outside the image
+    int listed = 0;  // hidden.pixels listed by hidden_candidates, before they are read
     HiddenSearch hidden;
   };
   void prepare_result(const ViewFrame& shot, const ShadeResult& r, std::span<const glm::mat4> object_to_world,
@@ -287,9 +290,15 @@ class PointCache {
   void touch_slot(size_t slot) {
     if (!slot_touched_[slot]) slot_touched_[slot] = 1, touched_slots_.push_back(uint32_t(slot));
   }
-  // `trace`, when given, records the pixels read and the verdict.
+  // `trace`, when given, records the pixels read and the verdict. The search in two steps (which
+  // insert's first phase takes for many results at once, prefetching between them): the pixels it
+  // may read, in order, and the first of them whose winner the shot's ray shows hidden.
   int32_t find_hidden(const ViewFrame& shot, const ShadeResult& r, const glm::vec3& last_world,
                       std::span<const glm::mat4> object_to_world, HiddenSearch* trace = nullptr) const;
+  int hidden_candidates(const ViewFrame& shot, const ShadeResult& r, const Projection& at_last,
+                        std::array<uint32_t, HiddenSearch::kMaxPixels>& pixels) const;
+  void first_hidden(const ViewFrame& shot, const ShadeResult& r, std::span<const glm::mat4> object_to_world, int listed,
+                    HiddenSearch& search) const;
   // The reference path (PointCacheSettings::reference_path).
   ProjectionCounts project_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world, bool depth_cull);
   size_t depth_cull_reference(std::span<const uint8_t> edge_pixels);

@@ -230,6 +230,43 @@ TEST(PointCache, StalePointsExpireAfterTheMaximumAgeFasterOffScreen) {
   }
 }
 
+// A result whose ray hits a nearer surface shows the cached point just behind the hit along it
+// hidden, and that point's slot goes to the result. The eye unmoved, the hidden point lies in the
+// 3x3 around where the hit lands in the last projection; moved sideways, pixels away along the
+// ray's image there (parallax), where the search walks. A ray passing half a pixel beside the
+// point (beyond the search's 0.35-pixel radius) leaves it alone.
+TEST(PointCache, AResultTakesTheSlotOfTheCachedPointItsRayShowsHidden) {
+  const int w = 64, h = 64;
+  const ViewFrame last(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  for (const glm::vec2 move : {glm::vec2(0.0f), glm::vec2(0.5f, 0.0f), glm::vec2(-0.3f, 0.4f), glm::vec2(0.1f, -0.6f)})
+    for (const float beside : {0.0f, 0.5f}) {
+      SCOPED_TRACE(::testing::Message() << "eye moved " << move.x << "," << move.y << ", ray beside by " << beside);
+      PointCache cache(w, h);
+      cache.insert(last, full_plane(last, 0.0f), kIdentity);  // the far plane, a point per pixel
+      cache.project(last, kIdentity);
+      const int32_t far = cache.image().point[cache.image().index(40, 30)];
+      ASSERT_GE(far, 0);
+      const glm::vec3 eye(move.x, move.y, 10.0f);
+      const ViewFrame shot(view_of(camera_at(eye, eye - glm::vec3(0, 0, 1)), w, h));
+      const glm::vec2 at = shot.project(cache.points()[size_t(far)].local).pixel + beside;
+      ShadeBatch batch;
+      batch.results.push_back(plane_hit(shot, at.x, at.y, 5.0f, 1, glm::vec3(0.9f)));  // the near surface
+      // Where the hit lands in the last projection: beside the far point's pixel when the eye moved.
+      const glm::vec2 hit_last = last.project(batch.results[0].position).pixel;
+      if (move != glm::vec2(0.0f)) ASSERT_GT(glm::distance(hit_last, glm::vec2(40.5f, 30.5f)), 2.0f);
+      cache.insert(shot, batch, kIdentity);
+      const CachePoint& slot = cache.points()[size_t(far)];
+      if (beside == 0.0f) {
+        EXPECT_EQ(cache.hidden_removed(), 1u);
+        EXPECT_TRUE(slot.valid);
+        EXPECT_EQ(slot.object, 1u);  // the result's
+      } else {
+        EXPECT_EQ(cache.hidden_removed(), 0u);
+        EXPECT_EQ(slot.object, 0u);
+      }
+    }
+}
+
 TEST(PointCache, NewResultsRefineOrOverwriteOldPointsAndChangedShadingAgesTheNeighbourhood) {
   const int w = 32, h = 32;
   const ViewFrame frame(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
