@@ -635,8 +635,8 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
 
   size_t inserted = 0;
   for (size_t k = 0; k < results; ++k) {
-    // The records this loop reads lie at random: the pixels a result lands in are prefetched 16
-    // results ahead, the points they hold 8 ahead (results in between may change which: only a
+    // The records this loop reads lie at random: the pixels a result lands in are prefetched 32
+    // results ahead, the points they hold 16 ahead (results in between may change which: only a
     // prefetch). Written in the loop: GCC 12 dropped the calls to a lambda holding only these.
     if (k + 32 < results)
       if (const int32_t pixel = prepared_[k + 32].last_pixel; pixel >= 0) {
@@ -663,27 +663,26 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
     bool in_front_of_drawn = false;  // a new occluder (PointCacheSettings::new_occluder_radius)
     if (last_frame_) {
       const Projection& proj = prepared_[k].last;
-      if (const int32_t last_pixel = prepared_[k].last_pixel; last_pixel >= 0) {
-        const int px = last_pixel % w, py = last_pixel / w;
-        const int32_t old = image_.point[image_.index(px, py)];
+      if (prepared_[k].last_pixel >= 0) {
+        const size_t pixel = size_t(prepared_[k].last_pixel);
+        const int32_t old = image_.point[pixel];
         // The z-buffer's winner, before the culls: where the occlusion test emptied a pixel behind a
         // new occluder's earlier samples, the result still lands in front of what was there.
         // (Where the winner is still drawn, the image holds its depth: no projection needed.)
-        const int32_t winner = winners_[image_.index(px, py)];
+        const int32_t winner = winners_[pixel];
         if (winner >= 0 && r.hit && point.object != kNone && points_[size_t(winner)].valid && points_[size_t(winner)].age != 0) {
           const float winner_depth =
-              old == winner ? image_.depth[image_.index(px, py)]
+              old == winner ? image_.depth[pixel]
                             : last_frame_->project(world_position(points_[size_t(winner)], *last_frame_, last_transforms_)).depth;
           in_front_of_drawn = proj.depth * (1.0f + kNewOccluderMargin) < winner_depth;
         }
         // (age 0: the slot was given to a result since the projection: not the point drawn there)
         if (old >= 0 && points_[size_t(old)].valid && points_[size_t(old)].age != 0 &&
             points_[size_t(old)].object == point.object &&
-            (point.object == kNone || std::abs(image_.depth[image_.index(px, py)] - proj.depth) <= 0.05f * proj.depth)) {
+            (point.object == kNone || std::abs(image_.depth[pixel] - proj.depth) <= 0.05f * proj.depth)) {
           replace = old;
           CachePoint& cached = points_[size_t(old)];
           PointColour& stats = colours_[size_t(old)];
-          const size_t pixel = image_.index(px, py);
           if ((no_refine_.size() != image_.point.size() || !no_refine_[pixel]) && refines(cached, stats, point, colour)) {
             // The same surface point under the same placement: one more sample of the same
             // quantity. A running mean (Welford for the luminance's variance), not a replacement.
@@ -701,7 +700,7 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
             continue;
           }
           if (stats.epoch != colour.epoch && shading_changed(stats.color, colour.color, settings_.change_threshold)) {
-            const int r0 = settings_.change_radius;
+            const int r0 = settings_.change_radius, px = int(pixel % size_t(w)), py = int(pixel / size_t(w));
             for (int qy = std::max(0, py - r0); qy <= std::min(h - 1, py + r0); ++qy)
               for (int qx = std::max(0, px - r0); qx <= std::min(w - 1, px + r0); ++qx) {
                 const int32_t q = image_.point[image_.index(qx, qy)];
