@@ -69,9 +69,11 @@ RandomEpi random_epi(int w, int h, double sample_share, double barrier_share, st
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
+      // Edge codes and ages as the EPI holds them: bits the filter must not read as colour.
+      r.epi.edge[r.epi.index(x, y)] = uint16_t(rng() & bits::kCodeMask);
       if (u(rng) < sample_share) {
         const float rgb[3] = {float(u(rng)), float(u(rng)), float(2.0 * u(rng))};
-        r.epi.set_sample(x, y, u(rng), u(rng), rgb);
+        r.epi.set_sample(x, y, u(rng), u(rng), rgb, int(rng() % 256));
       }
       r.barrier[r.epi.index(x, y)] = u(rng) < barrier_share;
     }
