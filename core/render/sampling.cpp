@@ -72,6 +72,10 @@ std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width
   thread_local std::vector<float> decision;
   thread_local std::vector<uint8_t> chosen;
   decision.resize(pixels), chosen.resize(pixels);
+  // Local pointers: through the thread-local vectors, GCC recomputed their address and reloaded
+  // their data for every pixel, and kept the carried error on the stack.
+  float* const decision_at = decision.data();
+  uint8_t* const chosen_at = chosen.data();
   const HilbertBlock& curve = hilbert_block();
   double error = double(unit_float(splitmix64(band_seed))) - 0.5;  // the phase of the first pick
   const int blocks = (width + kBlock - 1) / kBlock;
@@ -87,9 +91,9 @@ std::vector<uint32_t> dither_band(const float* priority, bool uniform, int width
         const size_t i = size_t(y) * size_t(width) + size_t(x);
         const float w = weight(i);
         const double value = double(w) * scale + error;
-        decision[i] = float(value);
+        decision_at[i] = float(value);
         const bool pick = value >= 0.5 && w > 0.0f;
-        chosen[i] = pick;
+        chosen_at[i] = pick;
         error = pick ? value - 1.0 : value;
       }
     }
