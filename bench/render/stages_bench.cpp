@@ -8,7 +8,9 @@
 //   BM_FillHoles            the hole fill after fast motion as the renderer runs it (list_holes, then
 //                           fill_listed_holes): `holes` per mille of the pixels in blobs of up to
 //                           8x8, one barrier column in 16; 0: the listing pass alone, the usual frame
-//                           at rest. args: width, height, holes ‰, threads.
+//                           at rest; `top` % of the other pixels at top priority with a colour,
+//                           as the filters' fallback leaves them in motion. args: width, height,
+//                           holes ‰, threads, top %.
 //   BM_SparseBlend          the sparse regions' blend (sparse_blend.h) over an EPI holding a sample in
 //                           `density` percent of its pixels at random, barriers along one row and
 //                           one column in 32; kernel 0: the scalar oracle (sparse_blend_reference),
@@ -127,7 +129,9 @@ void BM_FillHoles(benchmark::State& state) {
   for (float& v : image.pixels) v = u(rng);
   const size_t n = size_t(w) * size_t(h);
   std::vector<float> priority(n);
-  for (float& p : priority) p = u(rng) * 8.0f;
+  // Pixels the filters' fallback left at top priority (not holes: they have a colour), as in motion.
+  const float top_share = float(state.range(4)) / 100.0f;
+  for (float& p : priority) p = u(rng) < top_share ? kMaxPriority : u(rng) * 8.0f;
   std::vector<uint8_t> edge_flags(n, 0), barrier;
   const size_t blobs = n * size_t(state.range(2)) / 1000 / 20;  // blobs of ~20 pixels on average
   for (size_t b = 0; b < blobs; ++b) {
@@ -152,7 +156,7 @@ void BM_FillHoles(benchmark::State& state) {
   }
   state.SetItemsProcessed(int64_t(state.iterations()) * int64_t(w) * int64_t(h));  // pixels per second
 }
-BENCHMARK(BM_FillHoles)->ArgsProduct({{1920}, {1080}, {0, 5, 50}, {1, 2}})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FillHoles)->ArgsProduct({{1920}, {1080}, {0, 5, 50}, {1, 2}, {0, 30}})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_SparseBlend(benchmark::State& state) {
   const int w = int(state.range(0)), h = int(state.range(1));
