@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "scene/topology.h"
+#include "target_clones.h"
 
 namespace epi::edges {
 
@@ -107,24 +108,11 @@ std::span<const uint32_t> EdgeMesh::edge_faces(uint32_t e, uint32_t (&scratch)[2
   return {scratch, face0[e] == face1[e] ? 1u : 2u};
 }
 
-// ThreadSanitizer instruments the ifunc resolver that target_clones generates, and the resolver
-// runs before TSan is initialised (a crash at load): the TSan build keeps the default target only.
-#if defined(__SANITIZE_THREAD__)
-#define EPI_FACING_CLONES
-#elif defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-#define EPI_FACING_CLONES
-#endif
-#endif
-#ifndef EPI_FACING_CLONES
-#define EPI_FACING_CLONES __attribute__((target_clones("avx512f", "avx2", "default")))
-#endif
-
 namespace {
 
 // The facing pass, compiled for several instruction sets; without FMA contraction every target
 // computes the same bits as the scalar front_facing().
-EPI_FACING_CLONES void facing_pass(
+EPI_TARGET_CLONES void facing_pass(
     const float* __restrict nx, const float* __restrict ny, const float* __restrict nz, const float* __restrict d,
     size_t n, float x, float y, float z, float w, uint8_t* __restrict facing) {
   for (size_t i = 0; i < n; ++i) facing[i] = (nx[i] * x + ny[i] * y + nz[i] * z - d[i] * w) > 0.0f;

@@ -8,13 +8,16 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "target_clones.h"
+
 namespace epi::render {
 
 namespace {
 
-// The row loops of filter_depth, with restrict pointers so that the compiler vectorizes them.
+// The row loops of filter_depth, with restrict pointers so that the compiler vectorizes them (for
+// each target: target_clones.h).
 // A drawn pixel's depth, -inf where empty (or NaN), and 1 / 0 for drawn / empty.
-void masked_row(const int32_t* __restrict point, const float* __restrict depth, float* __restrict masked,
+EPI_TARGET_CLONES void masked_row(const int32_t* __restrict point, const float* __restrict depth, float* __restrict masked,
                 uint8_t* __restrict drawn_flags, int w) {
   const float empty = -std::numeric_limits<float>::infinity();
   for (int x = 0; x < w; ++x) {
@@ -24,7 +27,7 @@ void masked_row(const int32_t* __restrict point, const float* __restrict depth, 
   }
 }
 // Maximum and sum over x-1..x+2 of rows padded by one element before and two after.
-void window4_row(const float* __restrict masked, const uint8_t* __restrict drawn_flags, float* __restrict m,
+EPI_TARGET_CLONES void window4_row(const float* __restrict masked, const uint8_t* __restrict drawn_flags, float* __restrict m,
                  uint8_t* __restrict n, int w) {
   for (int x = 0; x < w; ++x) {
     m[x] = std::max(std::max(masked[x - 1], masked[x]), std::max(masked[x + 1], masked[x + 2]));
@@ -32,7 +35,7 @@ void window4_row(const float* __restrict masked, const uint8_t* __restrict drawn
   }
 }
 // Rows y-1..y+2 of the window maxima and counts to the filtered depth.
-void filtered_row(const float* __restrict m0, const float* __restrict m1, const float* __restrict m2,
+EPI_TARGET_CLONES void filtered_row(const float* __restrict m0, const float* __restrict m1, const float* __restrict m2,
                   const float* __restrict m3, const uint8_t* __restrict n0, const uint8_t* __restrict n1,
                   const uint8_t* __restrict n2, const uint8_t* __restrict n3, float base, float sparse,
                   float* __restrict out, int w) {
