@@ -147,8 +147,8 @@ void list_holes(const RgbImage& image, std::span<const float> priority, std::spa
     std::vector<uint32_t>& list = scratch.band_holes[size_t(band)];
     list.clear();
     const size_t begin = size_t(band) * kBandRows * size_t(w), end = std::min(n, begin + kBandRows * size_t(w));
-    // Plain loops the compiler vectorizes; holes are rare, so only chunks with a top-priority
-    // pixel are looked at pixel by pixel.
+    // Plain loops the compiler vectorizes; only chunks with a top-priority pixel are looked at
+    // further (at rest, holes alone are at the top, and rare).
     for (size_t i = begin; i != end; ++i) barrier_out[i] = (edges[i] & barrier_bits) != 0;
     std::fill(state + begin, state + end, hole_state(false, false));
     constexpr size_t kChunk = 64;  // one bit a pixel in the mask below
@@ -157,19 +157,9 @@ void list_holes(const RgbImage& image, std::span<const float> priority, std::spa
       int at_top = 0;
       for (size_t i = c; i != c_end; ++i) at_top += top[i] >= kMaxPriority;
       if (at_top == 0) continue;
-      auto is_hole = [&](size_t i) {
-        return (top[i] >= kMaxPriority) & (rgb[3 * i] == 0.0f) & (rgb[3 * i + 1] == 0.0f) & (rgb[3 * i + 2] == 0.0f);
-      };
-      // The chunk's holes as a bit mask, then in order. Where top-priority pixels are many (in
-      // motion most are not holes: the fallback's), without a branch per pixel, which
-      // mispredicted; where they are few (the holes alone), a branch on them skips the rest.
-      uint64_t holes = 0;
-      if (at_top > 8) {
-        for (size_t i = c; i != c_end; ++i) holes |= uint64_t(is_hole(i)) << (i - c);
-      } else {
-        for (size_t i = c; i != c_end; ++i)
-          if (top[i] >= kMaxPriority) holes |= uint64_t(is_hole(i)) << (i - c);
-      }
+      // The chunk's holes as a bit mask (a vector kernel: in motion many pixels are at the top,
+      // most of them the fallback's, not holes, and a branch per pixel mispredicted), then in order.
+      uint64_t holes = hole_mask(top + c, rgb + 3 * c, c_end - c);
       for (; holes != 0; holes &= holes - 1) {
         const size_t i = c + size_t(std::countr_zero(holes));
         state[i] = hole_state(true, barrier_out[i] != 0), list.push_back(uint32_t(i));

@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "epi/interpolate.h"
 #include "image/image.h"
 
 namespace epi::render {
@@ -33,6 +34,14 @@ size_t fill_holes(RgbImage& image, std::span<const uint8_t> holes, std::span<con
 // whose state is not 0, ascending. The same image as fill_holes.
 inline uint8_t hole_state(bool hole, bool on_barrier) { return uint8_t(uint32_t(hole) * (1u + uint32_t(on_barrier))); }
 size_t fill_listed_holes(RgbImage& image, std::span<const uint8_t> barrier, HoleFillScratch& scratch);
+
+// A hole: a pixel at top priority (no sample reached) that is black.
+inline bool is_hole(float priority, const float* rgb) {
+  return (priority >= kMaxPriority) & (rgb[0] == 0.0f) & (rgb[1] == 0.0f) & (rgb[2] == 0.0f);
+}
+// Bit k: whether pixel k of `count` (at most 64) is a hole, from its priority top[k] and colour
+// rgb[3k, 3k + 3). A Highway kernel (hole_mask.cpp); every target gives is_hole's bits.
+uint64_t hole_mask(const float* top, const float* rgb, size_t count);
 
 // The renderer's set-up of fill_listed_holes, in one pass over bands of rows in parallel. A hole
 // is a pixel of `image` at top priority (`priority` >= kMaxPriority: no sample reached) that is

@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <random>
 
+#include <hwy/targets.h>
 #include <tbb/global_control.h>
 
 #include "epi/interpolate.h"
@@ -242,5 +245,41 @@ TEST(HoleFill, TheRenderersListingEqualsThePerPixelDefinition) {
   EXPECT_GT(holes_total, 1000u);
 }
 
+}  // namespace
+}  // namespace epi::render
+
+// hole_mask on every target compiled and supported here against is_hole, pixel by pixel: every
+// count from 0 to 64 (vector remainders), priorities just below, at and above the top, NaN and
+// infinities, colours of +0, -0, denormals, NaN and ordinary values in each channel.
+namespace epi::render {
+namespace {
+TEST(HoleFill, TheHoleMaskGivesIsHolesBitsOnEveryTarget) {
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  const float priorities[] = {kMaxPriority, std::nextafter(kMaxPriority, 0.0f), std::nextafter(kMaxPriority, 100.0f), 0.0f,
+                              nan, inf, -inf, 3.0f};
+  const float colours[] = {0.0f, -0.0f, std::numeric_limits<float>::denorm_min(), nan, 0.5f, inf};
+  int holes = 0;
+  for (const int64_t target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    std::mt19937 rng(17);
+    for (int round = 0; round < 40; ++round)
+      for (size_t count = 0; count <= 64; ++count) {
+        std::vector<float> top(count), rgb(3 * count);
+        for (float& p : top) p = priorities[rng() % 8];
+        // Mostly black, so that every channel decides some pixels.
+        for (float& c : rgb) c = rng() % 4 == 0 ? colours[rng() % 6] : (rng() % 2 ? 0.0f : -0.0f);
+        const uint64_t got = hole_mask(top.data(), rgb.data(), count);
+        for (size_t k = 0; k < 64; ++k) {
+          const bool want = k < count && is_hole(top[k], &rgb[3 * k]);
+          ASSERT_EQ(bool((got >> k) & 1), want) << hwy::TargetName(target) << ", count " << count << ", pixel " << k;
+          holes += want;
+        }
+      }
+  }
+  hwy::SetSupportedTargetsForTest(0);
+  EXPECT_GT(holes, 1000);
+}
 }  // namespace
 }  // namespace epi::render
