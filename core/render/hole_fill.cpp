@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "epi/interpolate.h"
+#include "target_clones.h"
 
 namespace epi::render {
 
@@ -129,6 +130,20 @@ size_t fill_listed_holes(RgbImage& image, std::span<const uint8_t> barrier, Hole
   return filled;
 }
 
+namespace {
+
+// list_holes' plain loops, compiled for every target (target_clones.h).
+EPI_TARGET_CLONES void barrier_flags(const uint8_t* __restrict edges, uint8_t bits, uint8_t* __restrict out, size_t n) {
+  for (size_t i = 0; i < n; ++i) out[i] = (edges[i] & bits) != 0;
+}
+EPI_TARGET_CLONES int count_at_top(const float* __restrict top, size_t n) {
+  int at_top = 0;
+  for (size_t i = 0; i < n; ++i) at_top += top[i] >= kMaxPriority;
+  return at_top;
+}
+
+}  // namespace
+
 void list_holes(const RgbImage& image, std::span<const float> priority, std::span<const uint8_t> edge_flags,
                 uint8_t barrier_bits, std::vector<uint8_t>& barrier, HoleFillScratch& scratch) {
   const int w = image.width, h = image.height;
@@ -147,16 +162,14 @@ void list_holes(const RgbImage& image, std::span<const float> priority, std::spa
     std::vector<uint32_t>& list = scratch.band_holes[size_t(band)];
     list.clear();
     const size_t begin = size_t(band) * kBandRows * size_t(w), end = std::min(n, begin + kBandRows * size_t(w));
-    // Plain loops the compiler vectorizes; only chunks with a top-priority pixel are looked at
-    // further (at rest, holes alone are at the top, and rare).
-    for (size_t i = begin; i != end; ++i) barrier_out[i] = (edges[i] & barrier_bits) != 0;
+    // Plain loops the compiler vectorizes (for every target); only chunks with a top-priority
+    // pixel are looked at further (at rest, holes alone are at the top, and rare).
+    barrier_flags(edges + begin, barrier_bits, barrier_out + begin, end - begin);
     std::fill(state + begin, state + end, hole_state(false, false));
     constexpr size_t kChunk = 64;  // one bit a pixel in the mask below
     for (size_t c = begin; c < end; c += kChunk) {
       const size_t c_end = std::min(end, c + kChunk);
-      int at_top = 0;
-      for (size_t i = c; i != c_end; ++i) at_top += top[i] >= kMaxPriority;
-      if (at_top == 0) continue;
+      if (count_at_top(top + c, c_end - c) == 0) continue;
       // The chunk's holes as a bit mask (a vector kernel: in motion many pixels are at the top,
       // most of them the fallback's, not holes, and a branch per pixel mispredicted), then in order.
       uint64_t holes = hole_mask(top + c, rgb + 3 * c, c_end - c);
