@@ -1,7 +1,6 @@
 // hole_mask (hole_fill.h) for every Highway target (foreach_target.h compiles this file once per target).
 #include <cstring>
 
-#include "epi/interpolate.h"
 #include "render/hole_fill.h"
 
 #undef HWY_TARGET_INCLUDE
