@@ -20,6 +20,7 @@
 #define EPI_SIMD_REACHABILITY_INL_H_
 #endif
 
+#include <algorithm>
 #include <array>
 #include <cstring>
 
@@ -78,42 +79,46 @@ inline void RelationRowKernel(const RelationRow& row) {
   for (int x = 0; x < row.width; x += n) RelationLanes(d8, row, x);
 }
 
-// The oracle's step order (reachability.cpp, make_steps<2>): window index (dy+2)*5 + dx+2,
-// predecessors one step closer to the centre and the relation row, plane and column offset
-// of the step from each.
-struct ReachStep {
-  int index, bit;
-  bool forward;  // a later row, the rest of the own row to the right, or (-1, 0), (-2, 0)
+// The oracle's step order over the (2R + 1)^2 window (reachability.cpp, make_steps<R>): window
+// index (dy + R)(2R + 1) + dx + R, the predecessors one step closer to the centre, and the
+// relation row (row k: image row y - R + k), plane and column offset of the step from each. R = 2
+// is the reachability's 5x5, R = 3 the fallback's 7x7.
+struct WindowStep {
+  int index, dy;
   int pred[2], row[2], plane[2], dx[2];
   int preds;
 };
-constexpr std::array<ReachStep, 24> MakeReachSteps() {
-  std::array<ReachStep, 24> steps{};
+template <int R>
+constexpr std::array<WindowStep, (2 * R + 1) * (2 * R + 1) - 1> MakeWindowSteps() {
+  constexpr int side = 2 * R + 1;
+  std::array<WindowStep, side * side - 1> steps{};
   int n = 0;
-  for (int dist = 1; dist <= 4; ++dist)
-    for (int dy = -2; dy <= 2; ++dy)
-      for (int dx = -2; dx <= 2; ++dx) {
+  for (int dist = 1; dist <= 2 * R; ++dist)
+    for (int dy = -R; dy <= R; ++dy)
+      for (int dx = -R; dx <= R; ++dx) {
         if ((dx < 0 ? -dx : dx) + (dy < 0 ? -dy : dy) != dist) continue;
-        ReachStep s{};
-        s.index = (dy + 2) * 5 + dx + 2;
-        s.bit = s.index < 12 ? s.index : s.index - 1;
-        s.forward = dy >= 0;
+        WindowStep s{};
+        s.index = (dy + R) * side + dx + R, s.dy = dy;
         if (dx != 0) {  // from (dx - sx, dy): its right relation (sx = 1) or left (sx = -1)
           const int sx = dx > 0 ? 1 : -1;
-          s.pred[s.preds] = (dy + 2) * 5 + (dx - sx + 2);
-          s.row[s.preds] = dy + 2, s.plane[s.preds] = sx > 0 ? 0 : 1, s.dx[s.preds] = dx - sx;
+          s.pred[s.preds] = (dy + R) * side + (dx - sx + R);
+          s.row[s.preds] = dy + R, s.plane[s.preds] = sx > 0 ? 0 : 1, s.dx[s.preds] = dx - sx;
           ++s.preds;
         }
         if (dy != 0) {  // from (dx, dy - sy): row dy's down relation (sy = 1), row dy + 1's up
           const int sy = dy > 0 ? 1 : -1;
-          s.pred[s.preds] = (dy - sy + 2) * 5 + dx + 2;
-          s.row[s.preds] = sy > 0 ? dy + 2 : dy + 3, s.plane[s.preds] = sy > 0 ? 2 : 3, s.dx[s.preds] = dx;
+          s.pred[s.preds] = (dy - sy + R) * side + dx + R;
+          s.row[s.preds] = sy > 0 ? dy + R : dy + R + 1, s.plane[s.preds] = sy > 0 ? 2 : 3, s.dx[s.preds] = dx;
           ++s.preds;
         }
         steps[size_t(n++)] = s;
       }
   return steps;
 }
+// The 5x5's bit of a step (reach_bit: the centre has none); the forward steps: a later row, the
+// rest of the own row to the right, or (-1, 0), (-2, 0).
+constexpr int ReachBit(const WindowStep& s) { return s.index < 12 ? s.index : s.index - 1; }
+constexpr bool Forward(const WindowStep& s) { return s.dy >= 0; }
 
 // t: the relation bits that survive the state (bit 2a + b: region a reached, reaches b).
 // The next state X (0b0011 the primary reached, 0b1100 the secondary), and the result bit
@@ -132,6 +137,18 @@ constexpr StepTables MakeStepTables() {
   return t;
 }
 
+// Step s's relation bits that survive its predecessors' states (OR over the one or two).
+template <class D8>
+HWY_INLINE hn::Vec<D8> Surviving(D8 d8, const uint8_t* const* relations, size_t plane, int x, const WindowStep& s,
+                                 const hn::Vec<D8>* state) {
+  hn::Vec<D8> t = hn::Zero(d8);
+  for (int i = 0; i < s.preds; ++i) {
+    const uint8_t* rel = relations[s.row[i]] + size_t(s.plane[i]) * plane + x + s.dx[i];
+    t = hn::Or(t, hn::And(hn::LoadU(d8, rel), state[s.pred[i]]));
+  }
+  return t;
+}
+
 // Pixels x .. x + N - 1 (N byte lanes); out (and cache, unless null) has N entries, types
 // too. kForward: only the forward steps,
 // the offsets towards the two rows above from those rows' masks by symmetry (bit (dx, dy) of
@@ -139,21 +156,18 @@ constexpr StepTables MakeStepTables() {
 template <bool kForward, class D8>
 HWY_INLINE void ReachLanes(D8 d8, const ReachRow& row, int x, const uint8_t* types, uint32_t* out, uint32_t* cache) {
   using V = hn::Vec<D8>;
-  static constexpr std::array<ReachStep, 24> kSteps = MakeReachSteps();
+  static constexpr std::array<WindowStep, 24> kSteps = MakeWindowSteps<2>();
   static constexpr StepTables kTables = MakeStepTables();
   const Table16<D8> next(d8, kTables.next);
   V state[25];
   state[12] = hn::Set(d8, 3);  // the centre's primary
   V bytes[3] = {hn::Zero(d8), hn::Zero(d8), hn::Zero(d8)};
-  for (const ReachStep& s : kSteps) {
-    if (kForward && !s.forward) continue;
-    V t = hn::Zero(d8);
-    for (int i = 0; i < s.preds; ++i) {
-      const uint8_t* rel = row.relations[s.row[i]] + size_t(s.plane[i]) * row.plane + x + s.dx[i];
-      t = hn::Or(t, hn::And(hn::LoadU(d8, rel), state[s.pred[i]]));
-    }
+  for (const WindowStep& s : kSteps) {
+    if (kForward && !Forward(s)) continue;
+    const V t = Surviving(d8, row.relations, row.plane, x, s, state);
     state[s.index] = next(d8, t);
-    bytes[s.bit >> 3] = hn::Or(bytes[s.bit >> 3], Table16<D8>(d8, kTables.bit[s.bit & 7])(d8, t));
+    const int bit = ReachBit(s);
+    bytes[bit >> 3] = hn::Or(bytes[bit >> 3], Table16<D8>(d8, kTables.bit[bit & 7])(d8, t));
   }
   // Bytes to 32-bit masks, a quarter vector at a time.
   const size_t n = hn::Lanes(d8);
@@ -197,6 +211,46 @@ void ReachRowLanes(const ReachRow& row) {
   ReachLanes<kForward>(d8, row, x, types, reach, cache);  // the relation rows hold zeros beyond the row
   std::memcpy(row.reach + x, reach, rest * sizeof(uint32_t));
   if (row.cache) std::memcpy(row.cache + x, cache, rest * sizeof(uint32_t));
+}
+
+// The fallback's 7x7 (Reach7Row), the same propagation one ring further. Pixels x .. x + N - 1:
+// the masks' seven bytes (bit j of byte b: window index 8 b + j), byte plane b at bytes + b N.
+template <class D8>
+HWY_INLINE void Reach7Lanes(D8 d8, const Reach7Row& row, int x, uint8_t* bytes) {
+  using V = hn::Vec<D8>;
+  static constexpr std::array<WindowStep, 48> kSteps = MakeWindowSteps<3>();
+  static constexpr StepTables kTables = MakeStepTables();
+  const Table16<D8> next(d8, kTables.next);
+  V state[49];
+  state[24] = hn::Set(d8, 3);  // the centre's primary
+  V out[7];
+  for (V& o : out) o = hn::Zero(d8);
+  out[3] = hn::Set(d8, 1);  // the centre's own bit (24)
+  for (const WindowStep& s : kSteps) {
+    const V t = Surviving(d8, row.relations, row.plane, x, s, state);
+    state[s.index] = next(d8, t);
+    out[s.index >> 3] = hn::Or(out[s.index >> 3], Table16<D8>(d8, kTables.bit[s.index & 7])(d8, t));
+  }
+  const size_t n = hn::Lanes(d8);
+  for (size_t b = 0; b < 7; ++b) hn::Store(out[b], d8, bytes + b * n);
+}
+
+// Whole vectors over [first, end), those holding a taken pixel; the taken lanes' bytes to masks.
+inline void Reach7RowKernel(const Reach7Row& row) {
+  const hn::ScalableTag<uint8_t> d8;
+  const int n = int(hn::Lanes(d8));
+  HWY_ALIGN uint8_t bytes[7 * HWY_LANES(uint8_t)];
+  for (int x = row.first; x < row.end; x += n) {
+    const int count = std::min(n, row.end - x);
+    if (!std::memchr(row.take + x, 1, size_t(count))) continue;
+    Reach7Lanes(d8, row, x, bytes);
+    for (int k = 0; k < count; ++k) {
+      if (!row.take[x + k]) continue;
+      uint64_t mask = 0;
+      for (int b = 0; b < 7; ++b) mask |= uint64_t(bytes[b * n + k]) << (8 * b);
+      row.masks[x + k] = mask;
+    }
+  }
 }
 
 inline void ReachRowKernel(const ReachRow& row) {

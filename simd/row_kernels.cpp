@@ -23,7 +23,7 @@ namespace HWY_NAMESPACE {
 const RowKernels* KernelTable() {
   static const RowKernels table{hwy::TargetName(HWY_TARGET), HWY_TARGET, &InterpolateRowKernel, &ReachRowKernel, &RelationRowKernel, &ClassifyRowKernel,
                                 &AntialiasRowKernel, &DecodeRowKernel, &FillRowKernel, &RenderCacheRowKernel,
-                                &WindowMeanRowKernel};
+                                &WindowMeanRowKernel, &Reach7RowKernel};
   return &table;
 }
 

@@ -154,6 +154,22 @@ struct FillRow {
   float* out;
 };
 
+// The fallback's 7x7 reachability (reachability.h: reach_window7, the same masks: bit
+// (dy + 3) x 7 + dx + 3, the centre's bit 24 set) of the pixels x in [first, end) with take[x]
+// = 1, from the relation rows (RelationRow's four planes, `plane` bytes apart) of rows y - 3 ..
+// y + 3: relations[k] the right plane of row y - 3 + k, pixel x at [x]; row y - 3's down and up
+// planes are not read. A taken pixel's mask depends only on the relations within 3 columns of
+// its own that lie in the image (those into the outside are blocked, so what lies beyond is
+// never reached); the kernel reads whole vectors, from 3 bytes before `first` to 66 after `end`.
+// Only the taken pixels' masks[x] are written.
+struct Reach7Row {
+  const uint8_t* relations[7];
+  size_t plane;
+  const uint8_t* take;
+  int first, end;
+  uint64_t* masks;
+};
+
 struct RowKernels {
   const char* target_name;
   int64_t target;  // the HWY_* bit
@@ -169,6 +185,7 @@ struct RowKernels {
   // are not read. Outputs as interpolation's (found 0: the caller's fallback).
   void (*rendercache)(const InterpolateRow& row);
   void (*window_mean)(const WindowMeanRow& row);
+  void (*reach7)(const Reach7Row& row);
 };
 
 // The table of one target; 0: the best this CPU runs. Throws std::invalid_argument for a

@@ -181,9 +181,9 @@ void fallback_color(const EpiRows& rows, int x, int y, float rgb[3], bool blend_
 }
 
 int fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, bool blend_near_edges,
-                 FallbackScratch& scratch, bool defer_whole_windows) {
+                 FallbackScratch& scratch, bool defer_whole_windows, bool defer_reaching) {
   const int w = rows.width, h = rows.height;
-  scratch.whole_first = scratch.whole_end = 0;
+  scratch.span_first = scratch.span_end = scratch.reaching_count = 0;
   const auto* first = static_cast<const uint8_t*>(std::memchr(found, 0, size_t(w)));
   if (!first) return 0;
   const int x_first = int(first - found);
@@ -203,13 +203,15 @@ int fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, b
     for (int x = xa; x < xb; ++x) edge_or[x] |= e[x], type_or[x] |= t[x];
   }
   const bool rows_inside = y >= 3 && y + 3 < h;
-  uint8_t* whole = nullptr;
-  if (defer_whole_windows) {
-    scratch.whole_window.resize(size_t(w));
-    whole = scratch.whole_window.data();
-    std::fill(whole + x_first, whole + x_last + 1, uint8_t(0));
-    scratch.whole_first = x_first, scratch.whole_end = x_last + 1;
-  }
+  auto marks = [&](bool defer, std::vector<uint8_t>& v) -> uint8_t* {
+    if (!defer) return nullptr;
+    v.resize(size_t(w));
+    std::fill(v.begin() + x_first, v.begin() + x_last + 1, uint8_t(0));
+    return v.data();
+  };
+  uint8_t* const whole = marks(defer_whole_windows, scratch.whole_window);
+  uint8_t* const reaching = marks(defer_reaching, scratch.reaching);
+  scratch.span_first = x_first, scratch.span_end = x_last + 1;
   int deferred = 0;
   for (int x = x_first; x <= x_last; ++x) {
     if (found[x]) continue;
@@ -222,11 +224,21 @@ int fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, b
     else if (window_types == kTypeEmpty && rows_inside && x >= 3 && x + 3 < w) {  // (outside counts as complex)
       if (whole) whole[x] = 1, ++deferred;
       else whole_window_mean(rows, x, y, out);
+    } else if (reaching) {
+      reaching[x] = 1, ++scratch.reaching_count;
     } else {
       fallback_reaching(rows, x, y, reach_window7(types, x, y), out, blend_near_edges);
     }
   }
   return deferred;
+}
+
+void fallback_reaching_row(const EpiRows& rows, int y, float* rgb, bool blend_near_edges,
+                           const FallbackScratch& scratch) {
+  if (scratch.reaching_count == 0) return;
+  const uint8_t* reaching = scratch.reaching.data();
+  for (int x = scratch.span_first; x < scratch.span_end; ++x)
+    if (reaching[x]) fallback_reaching(rows, x, y, scratch.reach7[size_t(x)], rgb + 3 * x, blend_near_edges);
 }
 
 float interpolate_pixel(const EpiRows& rows, int x, int y, uint32_t reach, float rgb[3], bool* found,

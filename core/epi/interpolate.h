@@ -49,16 +49,27 @@ void fallback_color(const EpiRows& rows, int x, int y, float rgb[3], bool blend_
 //
 // With `defer_whole_windows` those edge-free windows inside the image are left to the caller's
 // vector kernel (simd::WindowMeanRow, the same bits): their pixels are marked 1 in
-// scratch.whole_window (0 elsewhere in [whole_first, whole_end)) and their colours left as
-// they were; returns how many were marked.
+// scratch.whole_window (0 elsewhere in [span_first, span_end)) and their colours left as
+// they were; returns how many were marked. With `defer_reaching` the other pixels that need the
+// 7x7 reachability are marked in scratch.reaching likewise (their count in reaching_count): the
+// caller writes their masks (reach_window7's) into scratch.reach7 and finishes them with
+// fallback_reaching_row.
 struct FallbackScratch {
   std::vector<uint16_t> edge_or;  // per column: the edge words of rows y-3..y+3, ORed
   std::vector<uint8_t> type_or;   // per column: their types, ORed
   std::vector<uint8_t> whole_window;  // deferred pixels (defer_whole_windows)
-  int whole_first = 0, whole_end = 0;  // the span of whole_window written this row
+  std::vector<uint8_t> reaching;      // deferred pixels (defer_reaching)
+  std::vector<uint64_t> reach7;       // the caller's: their 7x7 masks, pixel x at [x]
+  std::vector<uint8_t> relations;     // the caller's: storage for its kernel's inputs
+  int span_first = 0, span_end = 0;   // the span of the marks written this row
+  int reaching_count = 0;
 };
 int fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, bool blend_near_edges,
-                 FallbackScratch& scratch, bool defer_whole_windows = false);
+                 FallbackScratch& scratch, bool defer_whole_windows = false, bool defer_reaching = false);
+// The colours of the pixels fallback_row marked in scratch.reaching, from their masks in
+// scratch.reach7: fallback_color's bits.
+void fallback_reaching_row(const EpiRows& rows, int y, float* rgb, bool blend_near_edges,
+                           const FallbackScratch& scratch);
 
 
 // The paper's simple estimate: every sample of the 5x5, same kernel. Returns the total weight.

@@ -25,6 +25,24 @@
 
 namespace epi {
 
+// The side codes and descriptor relation (simd::RelationTables) from the side descriptors.
+const simd::RelationTables& relation_tables() {
+  static const simd::RelationTables tables = [] {
+    const SideDescriptors& d = side_descriptors();
+    simd::RelationTables t{};
+    for (int type = 0; type < 16; ++type)
+      for (int side = 0; side < 4; ++side) {
+        const bool blocked = d.word[type] & kSideBlocked;
+        const uint8_t descriptor = uint8_t((d.word[type] >> (2 * side)) & 3);
+        t.from[side][type] = blocked ? 0x80 : uint8_t(4 * descriptor);
+        t.to[side][type] = blocked ? 0x80 : descriptor;
+      }
+    for (int i = 0; i < 16; ++i) t.relation[i] = uint8_t(((i < 8 ? d.relation_lo : d.relation_hi) >> (4 * (i & 7))) & 15);
+    return t;
+  }();
+  return tables;
+}
+
 namespace {
 
 void check_sizes(const EpiImage& epi, const BoundaryMasks& masks) {
@@ -69,24 +87,6 @@ struct RowPlane {
 // vector's worth on the right.
 size_t samples_plane(int w) { return size_t(w) + 2 * simd::kPad + 64; }
 size_t samples_stride(int w) { return 5 * samples_plane(w); }
-
-// The side codes and descriptor relation (simd::RelationTables) from the side descriptors.
-const simd::RelationTables& relation_tables() {
-  static const simd::RelationTables tables = [] {
-    const SideDescriptors& d = side_descriptors();
-    simd::RelationTables t{};
-    for (int type = 0; type < 16; ++type)
-      for (int side = 0; side < 4; ++side) {
-        const bool blocked = d.word[type] & kSideBlocked;
-        const uint8_t descriptor = uint8_t((d.word[type] >> (2 * side)) & 3);
-        t.from[side][type] = blocked ? 0x80 : uint8_t(4 * descriptor);
-        t.to[side][type] = blocked ? 0x80 : descriptor;
-      }
-    for (int i = 0; i < 16; ++i) t.relation[i] = uint8_t(((i < 8 ? d.relation_lo : d.relation_hi) >> (4 * (i & 7))) & 15);
-    return t;
-  }();
-  return tables;
-}
 
 // The tables the vector kernels gather from, widened to 32 bits.
 struct WideTables {
@@ -248,6 +248,30 @@ void reachability_stage(RowJob& j, int y) {
   }
 }
 
+// The fallback's 7x7 reachability (simd::Reach7Row) of the pixels fallback_row marked in the
+// fallback's scratch, into its reach7: the relation rows y - 3 .. y + 3 (simd::RelationRow) over
+// the columns their windows cover, in the scratch's planes (pixel 0 at kReach7Pad: the kernel
+// reads whole vectors from 3 pixels before the first).
+constexpr int kReach7Pad = 3;
+void fallback_reach7(RowJob& j, int y) {
+  FallbackScratch& f = *j.fallback;
+  const size_t plane = size_t(j.width) + kReach7Pad + 69;  // Reach7Row reads to 66 past the row
+  if (f.relations.size() != 28 * plane) f.relations.assign(28 * plane, 0);
+  f.reach7.resize(size_t(j.width));
+  const int x0 = std::max(0, f.span_first - 3), x1 = std::min(j.width, f.span_end + 3);
+  simd::Reach7Row row{{}, plane, f.reaching.data(), f.span_first, f.span_end, f.reach7.data()};
+  for (int k = 0; k < 7; ++k) {
+    const int r = y - 3 + k;
+    uint8_t* out = f.relations.data() + 4 * size_t(k) * plane + kReach7Pad;
+    // Row y - 3's relations towards the row above are not read: computed as outside.
+    const uint8_t* above = k > 0 && j.inside(r - 1) ? j.padded_types.row(r - 1) : j.outside_types;
+    const uint8_t* own = j.inside(r) ? j.padded_types.row(r) : j.outside_types;
+    j.kernels->relations({x1 - x0, above + x0, own + x0, &relation_tables(), out + x0, plane});
+    row.relations[k] = out;
+  }
+  j.kernels->reach7(row);
+}
+
 void interpolate_stage(RowJob& j, int y) {
   const EpiRows rows = j.rows();
   const uint32_t* reach = j.reach.row(y);
@@ -274,16 +298,22 @@ void interpolate_stage(RowJob& j, int y) {
   // Pixels that reached nothing (found 0; runs of them after motion): the oracle's fallback, row
   // by row, or the render cache's 7x7 prefilter where its 3x3 holds no sample.
   // The edge-free 7x7 windows (most of those pixels) go to the vector kernel, the same bits.
+  // The other pixels' 7x7 reachability goes to the vector kernel too (fallback_reach7).
   const bool by_rows = !rendercache && j.fallback;
-  if (by_rows && fallback_row(rows, y, found, colors, j.settings.blend_unreached_near_edges, *j.fallback, true) > 0) {
+  const bool blend = j.settings.blend_unreached_near_edges;
+  if (by_rows && fallback_row(rows, y, found, colors, blend, *j.fallback, true, true) > 0) {
     simd::WindowMeanRow mean{};
     for (int k = 0; k < 7; ++k) {
       const float* base = j.inside(y - 3 + k) ? j.samples.row(y - 3 + k) : j.zero_samples;
       mean.green[k] = base, mean.blue[k] = base + plane, mean.red[k] = base + 4 * plane;
     }
     mean.width = j.width, mean.take = j.fallback->whole_window.data(), mean.rgb = colors;
-    mean.first = j.fallback->whole_first, mean.end = j.fallback->whole_end;
+    mean.first = j.fallback->span_first, mean.end = j.fallback->span_end;
     j.kernels->window_mean(mean);
+  }
+  if (by_rows && j.fallback->reaching_count > 0) {
+    fallback_reach7(j, y);
+    fallback_reaching_row(rows, y, colors, blend, *j.fallback);
   }
   for (auto* p = static_cast<uint8_t*>(std::memchr(found, 0, size_t(j.width))); p;
        p = static_cast<uint8_t*>(std::memchr(p + 1, 0, size_t(found + j.width - p - 1)))) {

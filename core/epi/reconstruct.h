@@ -97,7 +97,12 @@ struct ReconstructTimes {
 
 namespace simd {
 struct RowKernels;
-}
+struct RelationTables;
+}  // namespace simd
+
+// The neighbour relation tables of the reachability kernels (simd::RelationRow), built once from
+// the side descriptors (tables.h).
+const simd::RelationTables& relation_tables();
 
 // Which row kernels the fast schedules (tiled, staged) run: the per-pixel oracle functions,
 // or the Highway kernels (simd/) of one target: 0 the best this CPU runs, else a single

@@ -251,7 +251,8 @@ TEST(Fallback, EqualsTheStraightforwardLoopOnRandomPatterns) {
 
 // The schedules' row fallback against the per-pixel one: every pixel of every row, where any
 // pixel may be unreached (found 0), on patterns from holes to dense, sizes down to 1 pixel, both
-// blend settings; it must take each path (holes, edge-free windows, the general case).
+// blend settings; it must take each path (holes, edge-free windows, the general case). The same
+// with the general case deferred (the vector schedules' 7x7 reachability kernel).
 TEST(Fallback, RowEqualsThePixelFallbackOnRandomPatterns) {
   size_t holes = 0, edge_free = 0, general = 0;
   FallbackScratch scratch;
@@ -269,6 +270,18 @@ TEST(Fallback, RowEqualsThePixelFallbackOnRandomPatterns) {
             for (uint8_t& f : found) f = random() % 4 == 0;  // mostly unreached
             std::vector<float> got(3 * size_t(w), -1.0f), want(3 * size_t(w), -1.0f);
             fallback_row(rows, y, found.data(), got.data(), blend, scratch);
+            // Deferred as the vector schedules do: the pixels needing the 7x7 reachability are
+            // marked, their masks (here the oracle's) finished by fallback_reaching_row.
+            std::vector<float> deferred(3 * size_t(w), -1.0f);
+            fallback_row(rows, y, found.data(), deferred.data(), blend, scratch, false, true);
+            scratch.reach7.assign(size_t(w), 0);
+            int marked = 0;
+            for (int x = scratch.span_first; x < scratch.span_end; ++x)
+              if (scratch.reaching[size_t(x)]) scratch.reach7[size_t(x)] = reach_window7(rows.type_rows(), x, y), ++marked;
+            ASSERT_EQ(marked, scratch.reaching_count);
+            fallback_reaching_row(rows, y, deferred.data(), blend, scratch);
+            ASSERT_EQ(0, std::memcmp(got.data(), deferred.data(), got.size() * sizeof(float)))
+                << w << "x" << h << " density " << density << " seed " << seed << " row " << y << " deferred";
             for (int x = 0; x < w; ++x)
               if (!found[size_t(x)]) {
                 fallback_color(rows, x, y, &want[3 * size_t(x)], blend);

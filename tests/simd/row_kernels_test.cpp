@@ -1,6 +1,7 @@
-// The anti-aliasing, fill and fallback-mean row kernels of every compiled target, called directly on
-// random rows, against their per-pixel oracles (antialias_pixel, fill_pixel, fallback_color) bit for bit. The
-// frames of kernels_test.cpp hold few simple pixels and fewer unfound ones; here every pixel
+// The anti-aliasing, fill, fallback-mean and fallback 7x7 reachability row kernels of every
+// compiled target, called directly on random rows, against their per-pixel oracles
+// (antialias_pixel, fill_pixel, fallback_color, reach_window7) bit for bit. The frames of
+// kernels_test.cpp hold few simple pixels and fewer unfound ones; here every pixel
 // may be simple (or unfound), every edge code and neighbour occurs, rows above and below are
 // missing in every combination and widths run across the vector and chunk sizes.
 #include <gtest/gtest.h>
@@ -19,6 +20,8 @@
 #include "epi/fill.h"
 #include "epi/geometry.h"
 #include "epi/interpolate.h"
+#include "epi/reachability.h"
+#include "epi/reconstruct.h"
 #include "epi/rows.h"
 #include "epi/tables.h"
 #include "simd/row_kernels.h"
@@ -206,6 +209,68 @@ TEST_P(RowKernels, WindowMeanEqualsTheFallback) {
         }
   EXPECT_GT(coloured, 5000);
   EXPECT_GT(black, 1000);
+}
+
+// The fallback's 7x7 reachability against reach_window7: random types (empty, complex and every
+// simple type in random shares), images of 1 to 9 rows (the windows leave the image on every side),
+// random pixels taken. The relation rows are computed as the reconstruction does, only over the
+// columns the taken pixels' windows cover; the planes' other bytes hold garbage (0x0f: every
+// region reaches every other), so a read beyond a taken pixel's window fails. Outside the image
+// that garbage is never reached: the relations into it are computed, and blocked.
+TEST_P(RowKernels, Reach7EqualsTheOracle) {
+  std::mt19937_64 rng(77);
+  constexpr int kPadBefore = 3;
+  int64_t partial = 0, whole = 0, none = 0;
+  for (int w : kWidths)
+    for (int h : {1, 2, 4, 7, 9})
+      for (double complex_share : {0.0, 0.05, 0.3, 1.0})
+        for (double simple_share : {0.0, 0.3, 1.0}) {
+          SCOPED_TRACE("width " + std::to_string(w) + ", height " + std::to_string(h) + ", complex " +
+                       std::to_string(complex_share) + ", simple " + std::to_string(simple_share));
+          std::bernoulli_distribution is_complex(complex_share), is_simple(simple_share), taken(0.3);
+          std::vector<uint8_t> types(size_t(w * h));
+          for (uint8_t& t : types)
+            t = uint8_t(is_complex(rng) ? kTypeComplex : is_simple(rng) ? 2 + int(rng() % 12) : kTypeEmpty);
+          const size_t padded = size_t(w) + 2 * simd::kPad + 64;
+          std::vector<uint8_t> padded_types(padded * size_t(h), uint8_t(kTypeComplex)), outside(padded, uint8_t(kTypeComplex));
+          for (int y = 0; y < h; ++y)
+            std::memcpy(&padded_types[size_t(y) * padded + simd::kPad], &types[size_t(y * w)], size_t(w));
+          auto type_row = [&](int r) { return r >= 0 && r < h ? &padded_types[size_t(r) * padded] : outside.data(); };
+          const size_t plane = size_t(w) + kPadBefore + 69;
+          const TypeRows oracle_types{types.data(), w, h};
+          for (int y = 0; y < h; ++y) {
+            const int first = int(rng() % size_t(w)), end = first + 1 + int(rng() % size_t(w - first));
+            std::vector<uint8_t> take(size_t(w) + 64, 1);  // stray marks outside [first, end)
+            for (int x = first; x < end; ++x) take[size_t(x)] = taken(rng);
+            take[size_t(first)] = 1;
+            std::vector<uint8_t> relations(28 * plane, 0x0f);
+            const int x0 = std::max(0, first - 3), x1 = std::min(w, end + 3);
+            simd::Reach7Row row{{}, plane, take.data(), first, end, nullptr};
+            for (int k = 0; k < 7; ++k) {
+              const int r = y - 3 + k;
+              uint8_t* out = &relations[4 * size_t(k) * plane + kPadBefore];
+              kernels().relations({x1 - x0, (k > 0 ? type_row(r - 1) : outside.data()) + x0, type_row(r) + x0,
+                                   &relation_tables(), out + x0, plane});
+              row.relations[k] = out;
+            }
+            constexpr uint64_t kUntouched = 0xdeadbeefdeadbeefull;
+            std::vector<uint64_t> masks(size_t(w), kUntouched);
+            row.masks = masks.data();
+            kernels().reach7(row);
+            for (int x = 0; x < w; ++x) {
+              if (x < first || x >= end || !take[size_t(x)]) {
+                ASSERT_EQ(masks[size_t(x)], kUntouched) << "pixel " << x << ", row " << y << " not taken but written";
+                continue;
+              }
+              const uint64_t want = reach_window7(oracle_types, x, y);
+              ASSERT_EQ(masks[size_t(x)], want) << "pixel " << x << ", row " << y;
+              (want == kWindow7All ? whole : want == uint64_t(1) << 24 ? none : partial) += 1;
+            }
+          }
+        }
+  EXPECT_GT(partial, 5000);
+  EXPECT_GT(whole, 100);
+  EXPECT_GT(none, 1000);
 }
 
 std::string target_name(const testing::TestParamInfo<int64_t>& info) { return hwy::TargetName(info.param); }
