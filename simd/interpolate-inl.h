@@ -172,11 +172,16 @@ inline void RenderCacheRowKernel(const InterpolateRow& row) {
 // whole_window_mean lane by lane, its taps in its order (dy, then dx), a sample that is not
 // usable weighing +0 (and adding -0 x colour: unchanged, as the oracle's +0). Weights as the
 // oracle's window7_weights. Only the outer ring's 24 taps: a taken pixel reached no usable
-// sample in its edge-free 5x5 (WindowMeanRow), so the inner 25 would each add +0 or -0 to sums
-// that start at +0 and never go negative, which changes no bit.
-template <class DF>
-HWY_INLINE void WindowMeanLanes(DF df, const WindowMeanRow& row, int x, hn::Mask<DF> take, float* rgb) {
+// sample in its 5x5 (WindowMeanRow), so the inner 25 would each add +0 or -0 to sums that start
+// at +0 and never go negative, which changes no bit. kMasked: also a sample its 7x7 mask does
+// not reach weighs +0 (reachable_mean), and found gets whether any sample counted.
+template <bool kMasked, class DF>
+HWY_INLINE void WindowMeanLanes(DF df, const WindowMeanRow& row, int x, hn::Mask<DF> take, float* rgb,
+                                const uint64_t* masks, uint8_t* found) {
   const hn::RebindToSigned<DF> di;
+  const hn::RebindToUnsigned<DF> du;
+  hn::Vec<decltype(du)> low, high;  // the masks' bits 0-31 and 32-63, lane by lane
+  if constexpr (kMasked) hn::LoadInterleaved2(du, reinterpret_cast<const uint32_t*>(masks), low, high);
   auto sr = hn::Zero(df), sg = hn::Zero(df), sb = hn::Zero(df), total = hn::Zero(df);
   for (int dy = -3; dy <= 3; ++dy) {
     const size_t i = size_t(kPad + x - 3);
@@ -187,7 +192,12 @@ HWY_INLINE void WindowMeanLanes(DF df, const WindowMeanRow& row, int x, hn::Mask
       if (dy > -3 && dy < 3 && k > 0 && k < 6) continue;  // the inner 5x5: no usable sample
       const float d = float(1 + (k - 3) * (k - 3) + dy * dy);
       const auto r = hn::LoadU(df, red + k);
-      const auto unusable = hn::RebindMask(df, hn::Lt(hn::BitCast(di, r), hn::Zero(di)));
+      auto unusable = hn::RebindMask(df, hn::Lt(hn::BitCast(di, r), hn::Zero(di)));
+      if constexpr (kMasked) {
+        const int bit = (dy + 3) * 7 + k;
+        const auto reached = bit < 32 ? hn::TestBit(low, hn::Set(du, 1u << bit)) : hn::TestBit(high, hn::Set(du, 1u << (bit - 32)));
+        unusable = hn::Or(unusable, hn::Not(hn::RebindMask(df, reached)));
+      }
       const auto w = hn::IfThenZeroElse(unusable, hn::Set(df, 1.0f / (d * d)));
       sr = hn::Add(sr, hn::Mul(w, r));
       sg = hn::Add(sg, hn::Mul(w, hn::LoadU(df, green + k)));
@@ -204,11 +214,16 @@ HWY_INLINE void WindowMeanLanes(DF df, const WindowMeanRow& row, int x, hn::Mask
     return hn::IfThenElse(keep, old, hn::IfThenElseZero(some, hn::Div(sum, safe)));
   };
   hn::StoreInterleaved3(mean(sr, r0), mean(sg, g0), mean(sb, b0), df, rgb);
+  if constexpr (kMasked) {
+    const hn::Rebind<uint8_t, DF> d8;
+    hn::StoreU(hn::DemoteTo(d8, hn::IfThenElseZero(hn::RebindMask(di, some), hn::Set(di, 1))), d8, found);
+  }
 }
 
 // Vectors over [first, end) holding a pixel to take, the last partial one (past the row's end)
-// through a buffer; the planes' padding (zeros, a vector's worth and more) covers its loads.
-inline void WindowMeanRowKernel(const WindowMeanRow& row) {
+// through buffers; the planes' padding (zeros, a vector's worth and more) covers its loads.
+template <bool kMasked>
+void WindowMeanRowLanes(const WindowMeanRow& row) {
   const hn::ScalableTag<float> df;
   const hn::RebindToSigned<decltype(df)> di;
   const hn::Rebind<uint8_t, decltype(df)> d8;
@@ -222,18 +237,27 @@ inline void WindowMeanRowKernel(const WindowMeanRow& row) {
   for (int x = std::max(row.first, 3); x < row.end; x += n) {
     if (x + n <= row.width) {
       const auto take = taken(row.take + x, x);
-      if (!hn::AllFalse(df, take)) WindowMeanLanes(df, row, x, take, row.rgb + 3 * x);
+      if (!hn::AllFalse(df, take))
+        WindowMeanLanes<kMasked>(df, row, x, take, row.rgb + 3 * x, row.masks + x, row.found + x);
       continue;
     }
     constexpr int kMax = HWY_LANES(float);
-    const int rest = row.width - x;
-    HWY_ALIGN uint8_t take[kMax] = {};
+    const size_t rest = size_t(row.width - x);
+    HWY_ALIGN uint8_t take[kMax] = {}, found[kMax] = {};
     HWY_ALIGN float rgb[3 * kMax] = {};
-    std::memcpy(take, row.take + x, size_t(rest));
-    std::memcpy(rgb, row.rgb + 3 * x, size_t(rest) * 12);
-    WindowMeanLanes(df, row, x, taken(take, x), rgb);
-    std::memcpy(row.rgb + 3 * x, rgb, size_t(rest) * 12);
+    HWY_ALIGN uint64_t masks[kMax] = {};
+    std::memcpy(take, row.take + x, rest);
+    std::memcpy(rgb, row.rgb + 3 * x, rest * 12);
+    if (kMasked) std::memcpy(masks, row.masks + x, rest * sizeof(uint64_t));
+    WindowMeanLanes<kMasked>(df, row, x, taken(take, x), rgb, masks, found);
+    std::memcpy(row.rgb + 3 * x, rgb, rest * 12);
+    if (kMasked) std::memcpy(row.found + x, found, rest);
   }
+}
+
+inline void WindowMeanRowKernel(const WindowMeanRow& row) {
+  if (row.masks) WindowMeanRowLanes<true>(row);
+  else WindowMeanRowLanes<false>(row);
 }
 
 }  // namespace HWY_NAMESPACE

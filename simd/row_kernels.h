@@ -43,6 +43,13 @@ struct InterpolateRow {
 // x in [first, end) with take[x] = 1 (none closer than 3 to the image's sides, none with a
 // usable sample in its 5x5: they reached nothing there) get their colour in rgb + 3 x; no other
 // pixel of rgb is written. The kernel reads only the 7x7's outer ring.
+//
+// With `masks` (pixel x's at masks[x], reach_window7's bits), the fallback's reachable mean
+// instead (interpolate.cpp, reachable_mean: a window with an edge, or at the image's sides):
+// only the samples the mask reaches count (a taken pixel reached no usable one in its 5x5), and
+// found[x] is 1 where one did, else 0 and the colour black (the caller's last resort then).
+// Pixels closer than 3 to the left side are skipped (nothing written); those closer to the
+// right side are taken. found's other entries in the vectors visited are unspecified.
 struct WindowMeanRow {
   int width;
   const float* red[7];  // negated where not usable, as InterpolateRow's
@@ -51,6 +58,8 @@ struct WindowMeanRow {
   const uint8_t* take;
   int first, end;
   float* rgb;
+  const uint64_t* masks = nullptr;
+  uint8_t* found = nullptr;
 };
 
 // What a pixel type shows on each side, for the neighbour relation of two adjacent pixels

@@ -155,17 +155,21 @@ bool window_holds_samples(const EpiRows& rows, int x, int y, int r) {
 
 namespace {
 
-// fallback_color for a pixel whose 7x7 holds a sample, reaching the samples `reach` marks.
-void fallback_reaching(const EpiRows& rows, int x, int y, uint64_t reach, float rgb[3], bool blend_near_edges) {
-  if (reachable_mean(rows, x, y, reach, rgb)) return;
-  // Last resort. Only where the pixel's own 5x5 holds an edge (so it is at an edge, and its
-  // colour unknown either way; without blend_near_edges only where an edge crosses the pixel
-  // itself) may colour come from unreachable samples; elsewhere black.
+// fallback_color's last resort, for a pixel that reaches no usable sample in its 7x7. Only where
+// the pixel's own 5x5 holds an edge (so it is at an edge, and its colour unknown either way;
+// without blend_near_edges only where an edge crosses the pixel itself) may colour come from
+// unreachable samples; elsewhere black.
+void last_resort(const EpiRows& rows, int x, int y, float rgb[3], bool blend_near_edges) {
   if (blend_near_edges ? window_holds_edges(rows.type_rows(), x, y, 2) : rows.type_at(x, y) != kTypeEmpty) {
     if (simple_estimate(rows, x, y, rgb) > 0) return;
     if (window_average(rows, x, y, 3, rgb) > 0) return;
   }
   rgb[0] = rgb[1] = rgb[2] = 0.0f;
+}
+
+// fallback_color for a pixel whose 7x7 holds a sample, reaching the samples `reach` marks.
+void fallback_reaching(const EpiRows& rows, int x, int y, uint64_t reach, float rgb[3], bool blend_near_edges) {
+  if (!reachable_mean(rows, x, y, reach, rgb)) last_resort(rows, x, y, rgb, blend_near_edges);
 }
 
 }  // namespace
@@ -234,11 +238,14 @@ int fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, b
 }
 
 void fallback_reaching_row(const EpiRows& rows, int y, float* rgb, bool blend_near_edges,
-                           const FallbackScratch& scratch) {
+                           const FallbackScratch& scratch, const uint8_t* found) {
   if (scratch.reaching_count == 0) return;
   const uint8_t* reaching = scratch.reaching.data();
-  for (int x = scratch.span_first; x < scratch.span_end; ++x)
-    if (reaching[x]) fallback_reaching(rows, x, y, scratch.reach7[size_t(x)], rgb + 3 * x, blend_near_edges);
+  for (int x = scratch.span_first; x < scratch.span_end; ++x) {
+    if (!reaching[x]) continue;
+    if (!found || x < 3) fallback_reaching(rows, x, y, scratch.reach7[size_t(x)], rgb + 3 * x, blend_near_edges);
+    else if (!found[x]) last_resort(rows, x, y, rgb + 3 * x, blend_near_edges);
+  }
 }
 
 float interpolate_pixel(const EpiRows& rows, int x, int y, uint32_t reach, float rgb[3], bool* found,

@@ -60,6 +60,7 @@ struct FallbackScratch {
   std::vector<uint8_t> whole_window;  // deferred pixels (defer_whole_windows)
   std::vector<uint8_t> reaching;      // deferred pixels (defer_reaching)
   std::vector<uint64_t> reach7;       // the caller's: their 7x7 masks, pixel x at [x]
+  std::vector<uint8_t> reach7_found;  // the caller's: whether their reachable mean found a sample
   std::vector<uint8_t> relations;     // the caller's: storage for its kernel's inputs
   int span_first = 0, span_end = 0;   // the span of the marks written this row
   int reaching_count = 0;
@@ -67,9 +68,11 @@ struct FallbackScratch {
 int fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, bool blend_near_edges,
                  FallbackScratch& scratch, bool defer_whole_windows = false, bool defer_reaching = false);
 // The colours of the pixels fallback_row marked in scratch.reaching, from their masks in
-// scratch.reach7: fallback_color's bits.
+// scratch.reach7: fallback_color's bits. With `found` (simd::WindowMeanRow's, by masks) the
+// reachable means of the pixels from x = 3 on are already in rgb: those with found[x] = 0 only
+// take the last resort.
 void fallback_reaching_row(const EpiRows& rows, int y, float* rgb, bool blend_near_edges,
-                           const FallbackScratch& scratch);
+                           const FallbackScratch& scratch, const uint8_t* found = nullptr);
 
 
 // The paper's simple estimate: every sample of the 5x5, same kernel. Returns the total weight.

@@ -298,22 +298,29 @@ void interpolate_stage(RowJob& j, int y) {
   // Pixels that reached nothing (found 0; runs of them after motion): the oracle's fallback, row
   // by row, or the render cache's 7x7 prefilter where its 3x3 holds no sample.
   // The edge-free 7x7 windows (most of those pixels) go to the vector kernel, the same bits.
-  // The other pixels' 7x7 reachability goes to the vector kernel too (fallback_reach7).
+  // The other pixels (windows with an edge, or at the image's sides) get their 7x7 reachability
+  // (fallback_reach7) and their reachable mean from the vector kernels too, the last resort from
+  // the scalar code.
   const bool by_rows = !rendercache && j.fallback;
   const bool blend = j.settings.blend_unreached_near_edges;
-  if (by_rows && fallback_row(rows, y, found, colors, blend, *j.fallback, true, true) > 0) {
+  const auto window_mean = [&](const uint8_t* take, const uint64_t* masks, uint8_t* mean_found) {
     simd::WindowMeanRow mean{};
     for (int k = 0; k < 7; ++k) {
       const float* base = j.inside(y - 3 + k) ? j.samples.row(y - 3 + k) : j.zero_samples;
       mean.green[k] = base, mean.blue[k] = base + plane, mean.red[k] = base + 4 * plane;
     }
-    mean.width = j.width, mean.take = j.fallback->whole_window.data(), mean.rgb = colors;
+    mean.width = j.width, mean.take = take, mean.rgb = colors, mean.masks = masks, mean.found = mean_found;
     mean.first = j.fallback->span_first, mean.end = j.fallback->span_end;
     j.kernels->window_mean(mean);
-  }
+  };
+  if (by_rows && fallback_row(rows, y, found, colors, blend, *j.fallback, true, true) > 0)
+    window_mean(j.fallback->whole_window.data(), nullptr, nullptr);
   if (by_rows && j.fallback->reaching_count > 0) {
+    FallbackScratch& f = *j.fallback;
     fallback_reach7(j, y);
-    fallback_reaching_row(rows, y, colors, blend, *j.fallback);
+    f.reach7_found.resize(size_t(j.width));
+    window_mean(f.reaching.data(), f.reach7.data(), f.reach7_found.data());
+    fallback_reaching_row(rows, y, colors, blend, f, f.reach7_found.data());
   }
   for (auto* p = static_cast<uint8_t*>(std::memchr(found, 0, size_t(j.width))); p;
        p = static_cast<uint8_t*>(std::memchr(p + 1, 0, size_t(found + j.width - p - 1)))) {

@@ -211,6 +211,91 @@ TEST_P(RowKernels, WindowMeanEqualsTheFallback) {
   EXPECT_GT(black, 1000);
 }
 
+// The reachable mean by masks (WindowMeanRow with masks, the pixels with an edge in their 7x7)
+// and the scalar last resort after it (fallback_reaching_row with the kernel's found flags)
+// against the scalar fallback from the same masks, bit for bit: random types (so the masks cut
+// the windows), samples and usable ones from none to all, every row of a 7-row image (rows
+// outside read as zero rows), random pixels taken, each with no usable sample it reaches in its
+// 5x5 (the fallback's pixels).
+TEST_P(RowKernels, MaskedWindowMeanEqualsTheScalarFallback) {
+  std::mt19937_64 rng(34);
+  const auto& lut = epi_color8_to_linear();
+  int64_t found = 0, last_resort = 0;
+  constexpr int kRows = 7;
+  for (int w : kWidths)
+    for (double sampled_share : {0.02, 0.2, 1.0})
+      for (double usable_share : {0.0, 0.5, 1.0})
+        for (double simple_share : {0.1, 0.5}) {
+          SCOPED_TRACE("width " + std::to_string(w) + ", sampled " + std::to_string(sampled_share) + ", usable " +
+                       std::to_string(usable_share) + ", simple " + std::to_string(simple_share));
+          const size_t plane = size_t(w) + 2 * simd::kPad + 64;
+          std::bernoulli_distribution sampled(sampled_share), usable(usable_share), simple(simple_share),
+              complex(0.03), taken(0.5);
+          std::vector<uint16_t> edge(size_t(kRows * w));
+          std::vector<uint32_t> color(size_t(kRows * w));
+          std::vector<uint8_t> types(size_t(kRows * w));
+          for (size_t i = 0; i < types.size(); ++i) {
+            const bool has = sampled(rng), use = has && usable(rng);
+            edge[i] = uint16_t((rng() & 0x3fff) | (has ? bits::kHasSample : 0) | (use ? bits::kUsable : 0));
+            color[i] = uint32_t(rng());
+            types[i] = uint8_t(complex(rng) ? kTypeComplex : simple(rng) ? 2 + int(rng() % 12) : kTypeEmpty);
+          }
+          const TypeRows type_rows{types.data(), w, kRows};
+          for (int y = 0; y < kRows; ++y) {
+            FallbackScratch scratch;
+            scratch.reaching.assign(size_t(w), 0), scratch.reach7.assign(size_t(w), 0);
+            const int first = int(rng() % size_t(w)), end = first + 1 + int(rng() % size_t(w - first));
+            scratch.span_first = first, scratch.span_end = end;
+            // Taken pixels reach no usable sample in their 5x5: the reached ones there made unusable.
+            std::vector<uint16_t> edge_y = edge;
+            for (int x = first; x < end; ++x) {
+              if (!taken(rng)) continue;
+              const uint64_t mask = reach_window7(type_rows, x, y);
+              scratch.reaching[size_t(x)] = 1, scratch.reach7[size_t(x)] = mask, ++scratch.reaching_count;
+              for (int dy = -2; dy <= 2; ++dy)
+                for (int dx = -2; dx <= 2; ++dx)
+                  if ((mask >> window7_bit(dx, dy)) & 1) edge_y[size_t((y + dy) * w + x + dx)] &= uint16_t(~bits::kUsable);
+            }
+            std::vector<float> red(kRows * plane, -0.0f), green(kRows * plane, 0.0f), blue(kRows * plane, 0.0f);
+            std::vector<float> zero_red(plane, -0.0f), zero(plane, 0.0f);
+            for (int r = 0; r < kRows; ++r)
+              for (int x = 0; x < w; ++x) {
+                const size_t i = size_t(r * w + x), p = size_t(r) * plane + simd::kPad + size_t(x);
+                red[p] = std::copysign(lut[color[i] & 255], edge_y[i] & bits::kUsable ? 1.0f : -1.0f);
+                green[p] = lut[(color[i] >> 8) & 255], blue[p] = lut[(color[i] >> 16) & 255];
+              }
+            simd::WindowMeanRow row{};
+            for (int k = 0; k < 7; ++k) {
+              const int r = y - 3 + k;
+              const bool inside = r >= 0 && r < kRows;
+              row.red[k] = inside ? red.data() + size_t(r) * plane : zero_red.data();
+              row.green[k] = inside ? green.data() + size_t(r) * plane : zero.data();
+              row.blue[k] = inside ? blue.data() + size_t(r) * plane : zero.data();
+            }
+            std::vector<float> got(3 * size_t(w)), want;
+            for (float& c : got) c = float(rng() % 1000) - 2000.0f;
+            want = got;
+            std::vector<uint8_t> found_flags(size_t(w), 7);
+            row.width = w, row.take = scratch.reaching.data(), row.first = first, row.end = end, row.rgb = got.data();
+            row.masks = scratch.reach7.data(), row.found = found_flags.data();
+            kernels().window_mean(row);
+            const EpiRows rows{edge_y.data(), types.data(), color.data(), w, kRows};
+            for (int x = std::max(first, 3); x < end; ++x)
+              if (scratch.reaching[size_t(x)]) {
+                ASSERT_LE(found_flags[size_t(x)], 1) << "pixel " << x << ": found not written";
+                (found_flags[size_t(x)] ? found : last_resort) += 1;
+              }
+            fallback_reaching_row(rows, y, got.data(), true, scratch, found_flags.data());
+            fallback_reaching_row(rows, y, want.data(), true, scratch);
+            for (int x = 0; x < w; ++x)
+              ASSERT_TRUE(same_bits(&got[3 * size_t(x)], &want[3 * size_t(x)], 3))
+                  << "pixel " << x << ", row " << y << ": " << got[3 * size_t(x)] << " against " << want[3 * size_t(x)];
+          }
+        }
+  EXPECT_GT(found, 5000);
+  EXPECT_GT(last_resort, 1000);
+}
+
 // The fallback's 7x7 reachability against reach_window7: random types (empty, complex and every
 // simple type in random shares), images of 1 to 9 rows (the windows leave the image on every side),
 // random pixels taken. The relation rows are computed as the reconstruction does, only over the
