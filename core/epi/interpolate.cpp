@@ -239,10 +239,12 @@ int fallback_row(const EpiRows& rows, int y, const uint8_t* found, float* rgb, b
 
 void fallback_reaching_row(const EpiRows& rows, int y, float* rgb, bool blend_near_edges,
                            const FallbackScratch& scratch, const uint8_t* found) {
-  if (scratch.reaching_count == 0) return;
-  const uint8_t* reaching = scratch.reaching.data();
-  for (int x = scratch.span_first; x < scratch.span_end; ++x) {
-    if (!reaching[x]) continue;
+  // The marked pixels are few and far apart in most rows: found by memchr, not a branch per pixel.
+  const uint8_t* const reaching = scratch.reaching.data();
+  const uint8_t* p = reaching + scratch.span_first;
+  for (int left = scratch.reaching_count; left > 0; --left, ++p) {
+    p = static_cast<const uint8_t*>(std::memchr(p, 1, size_t(reaching + scratch.span_end - p)));
+    const int x = int(p - reaching);
     if (!found || x < 3) fallback_reaching(rows, x, y, scratch.reach7[size_t(x)], rgb + 3 * x, blend_near_edges);
     else if (!found[x]) last_resort(rows, x, y, rgb + 3 * x, blend_near_edges);
   }

@@ -250,25 +250,40 @@ void reachability_stage(RowJob& j, int y) {
 
 // The fallback's 7x7 reachability (simd::Reach7Row) of the pixels fallback_row marked in the
 // fallback's scratch, into its reach7: the relation rows y - 3 .. y + 3 (simd::RelationRow) over
-// the columns their windows cover, in the scratch's planes (pixel 0 at kReach7Pad: the kernel
-// reads whole vectors from 3 pixels before the first).
+// the columns the marked pixels' windows cover (those of the 64-pixel chunks holding one, 3
+// more on each side; the marked pixels may be few and far apart), in the scratch's planes
+// (pixel 0 at kReach7Pad: the kernel reads whole vectors from 3 pixels before the first).
 constexpr int kReach7Pad = 3;
 void fallback_reach7(RowJob& j, int y) {
   FallbackScratch& f = *j.fallback;
   const size_t plane = size_t(j.width) + kReach7Pad + 69;  // Reach7Row reads to 66 past the row
   if (f.relations.size() != 28 * plane) f.relations.assign(28 * plane, 0);
   f.reach7.resize(size_t(j.width));
-  const int x0 = std::max(0, f.span_first - 3), x1 = std::min(j.width, f.span_end + 3);
+  const auto relation_row = [&](int k) { return f.relations.data() + 4 * size_t(k) * plane + kReach7Pad; };
   simd::Reach7Row row{{}, plane, f.reaching.data(), f.span_first, f.span_end, f.reach7.data()};
-  for (int k = 0; k < 7; ++k) {
-    const int r = y - 3 + k;
-    uint8_t* out = f.relations.data() + 4 * size_t(k) * plane + kReach7Pad;
-    // Row y - 3's relations towards the row above are not read: computed as outside.
-    const uint8_t* above = k > 0 && j.inside(r - 1) ? j.padded_types.row(r - 1) : j.outside_types;
-    const uint8_t* own = j.inside(r) ? j.padded_types.row(r) : j.outside_types;
-    j.kernels->relations({x1 - x0, above + x0, own + x0, &relation_tables(), out + x0, plane});
-    row.relations[k] = out;
+  for (int k = 0; k < 7; ++k) row.relations[k] = relation_row(k);
+  const auto relations = [&](int x0, int x1) {
+    for (int k = 0; k < 7; ++k) {
+      const int r = y - 3 + k;
+      // Row y - 3's relations towards the row above are not read: computed as outside.
+      const uint8_t* above = k > 0 && j.inside(r - 1) ? j.padded_types.row(r - 1) : j.outside_types;
+      const uint8_t* own = j.inside(r) ? j.padded_types.row(r) : j.outside_types;
+      j.kernels->relations({x1 - x0, above + x0, own + x0, &relation_tables(), relation_row(k) + x0, plane});
+    }
+  };
+  int x0 = 0, x1 = 0;  // the columns pending, merged while the chunks' ranges touch
+  for (int c = f.span_first; c < f.span_end; c += 64) {
+    const int count = std::min(64, f.span_end - c);
+    if (!std::memchr(f.reaching.data() + c, 1, size_t(count))) continue;
+    const int a = std::max(0, c - 3), b = std::min(j.width, c + count + 3);
+    if (x1 > x0 && a <= x1) {
+      x1 = b;
+      continue;
+    }
+    if (x1 > x0) relations(x0, x1);
+    x0 = a, x1 = b;
   }
+  if (x1 > x0) relations(x0, x1);
   j.kernels->reach7(row);
 }
 
