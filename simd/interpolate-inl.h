@@ -238,7 +238,8 @@ void WindowMeanRowLanes(const WindowMeanRow& row) {
     if (x + n <= row.width) {
       const auto take = taken(row.take + x, x);
       if (!hn::AllFalse(df, take))
-        WindowMeanLanes<kMasked>(df, row, x, take, row.rgb + 3 * x, row.masks + x, row.found + x);
+        WindowMeanLanes<kMasked>(df, row, x, take, row.rgb + 3 * x, kMasked ? row.masks + x : nullptr,
+                                 kMasked ? row.found + x : nullptr);  // (no offset on a null pointer)
       continue;
     }
     constexpr int kMax = HWY_LANES(float);
