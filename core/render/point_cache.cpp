@@ -83,6 +83,7 @@ struct ColourSteps {
   uint32_t first = 0;
   int scans = 0;
   std::vector<uint8_t> start;
+  std::vector<int32_t> start_words;  // start, widened for fade_batch's gathers
 };
 
 const ColourSteps& colour_steps() {
@@ -103,6 +104,7 @@ const ColourSteps& colour_steps() {
       t.start.push_back(uint8_t(code(std::bit_cast<float>(b << 16))));
       t.scans = std::max(t.scans, code(std::bit_cast<float>(b << 16 | 0xffffu)) - t.start.back());
     }
+    t.start_words.assign(t.start.begin(), t.start.end());
     return t;
   }();
   return t;
@@ -127,6 +129,34 @@ uint32_t pack_srgb_by_steps(const glm::vec3& color, const glm::vec3& view_depend
 }  // namespace
 
 uint8_t encode_epi_color8_by_steps(float linear) { return encode_by_steps(colour_steps(), linear); }
+
+const ColourStepTables& colour_step_tables() {
+  static const ColourStepTables tables = [] {
+    const ColourSteps& t = colour_steps();
+    return ColourStepTables{t.steps.data(), t.start_words.data(), t.first, uint32_t(t.start_words.size()), t.scans};
+  }();
+  return tables;
+}
+
+namespace {
+
+// faded_srgb's colour and its view-dependent part (faded_colour_word's arithmetic, which
+// fade_batch repeats in lanes in the same order).
+void faded_colours(const glm::vec3& color, const glm::vec3& view_dependent, int staleness, bool rescaled, float transmission_now,
+                   float fade_start, float fade_span, glm::vec3& shown, glm::vec3& shown_view) {
+  const float fade = std::clamp((float(staleness) / 16.0f - fade_start) / fade_span, 0.0f, 1.0f);
+  shown_view = view_dependent * (1.0f - fade);
+  shown = rescaled ? (color - view_dependent) * transmission_now + shown_view : color - view_dependent * fade;
+}
+
+}  // namespace
+
+uint32_t faded_colour_word(const glm::vec3& color, const glm::vec3& view_dependent, int staleness, bool rescaled,
+                           float transmission_now, float fade_start, float fade_span) {
+  glm::vec3 shown, shown_view;
+  faded_colours(color, view_dependent, staleness, rescaled, transmission_now, fade_start, fade_span, shown, shown_view);
+  return pack_srgb_by_steps(shown, shown_view);
+}
 
 PointCache::PointCache(int width, int height, const PointCacheSettings& settings) : settings_(settings) {
   if (width <= 0 || height <= 0) throw std::invalid_argument("point cache: image size is not positive");
@@ -196,6 +226,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   if (frame.view().width != w || frame.view().height != h)
     throw std::invalid_argument("point cache: view size differs from the cache's image size");
   const int max_age = settings_.max_age;
+  const float fade_span = std::max(settings_.view_fade_end - settings_.view_fade_start, 1e-3f);  // as faded_srgb's
   // The eye in each object's space: a point's stored normal faces the eye it was shaded from, and
   // a point whose surface now faces away from the eye is not drawn (back_facing).
   eye_local_.resize(object_to_world.size());
@@ -230,7 +261,8 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
     // slots listed. Valid and free slots alternate at random: the listings are branch-free, and
     // the passes between see valid points only.
     ProjectionBatch batch;
-    std::array<uint32_t, ProjectionBatch::kSize> slots;
+    FadeBatch fade;
+    std::array<uint32_t, ProjectionBatch::kSize> slots, faded_slots;
     for (size_t first = b * kPointBlock, block_end = std::min(n, first + kPointBlock); first < block_end;
          first += ProjectionBatch::kSize) {
       const size_t count = std::min(ProjectionBatch::kSize, block_end - first);
@@ -246,9 +278,11 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       for (size_t k = valid; k < std::min(ProjectionBatch::kSize, valid + 16) && valid > 0; ++k) slots[k] = slots[valid - 1];
       gather_batch(cloud, uint32_t(first), slots.data(), valid, placement, batch);
       project_batch(frame, batch, valid);
+      size_t faded = 0;
       for (size_t k = 0; k < valid; ++k) {
         const size_t i = slots[k];
-        // The colour record 16 points ahead (faded_srgb reads it: 37 % of its samples waited on it)
+        // The colour record 16 points ahead (read below for fade_batch: 37 % of faded_srgb's
+        // samples waited on it when it read the record)
         __builtin_prefetch(&colours_[slots[std::min(k + 16, valid - 1)]]);
         CachePoint& p = points_[i];
         p.age = uint16_t(std::min(p.age + 1, 0xffff));
@@ -273,12 +307,30 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         p.image_id = pixel;
         const uint32_t tile = batch.tile[k], spot = batch.spot[k];
         const float transmission = p.srgb >> 24 ? batch.transmission[k] : 1.0f;
-        projected_[i] = {zkey(batch.depth[k], int(spot >> 16), uint32_t(i)), epi_color_word(i, transmission),
+        // epi_color_word: the stored colour, or for a faded one (most drawn points of a glossy
+        // scene in motion) fade_batch's after the loop, whose inputs are listed without a branch.
+        const bool fades = shows_faded(p, transmission);
+        const PointColour& c = colours_[i];
+        fade.r[faded] = c.color.r, fade.g[faded] = c.color.g, fade.b[faded] = c.color.b;
+        fade.vr[faded] = c.view_dependent.r, fade.vg[faded] = c.view_dependent.g, fade.vb[faded] = c.view_dependent.b;
+        fade.staleness[faded] = p.staleness, fade.rescaled[faded] = int32_t((p.srgb >> 24) != 0);
+        fade.transmission[faded] = transmission, faded_slots[faded] = uint32_t(i);
+        faded += size_t(fades);
+        projected_[i] = {zkey(batch.depth[k], int(spot >> 16), uint32_t(i)), (fades ? 0u : p.srgb & 0xffffffu) | priority_bits(p),
                          uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p, p.view_share) ? kShowsNothing : 0)),
                          uint16_t(spot)};
         point_tile_[i] = tile;
         ++block.tile_count[tile];
         ++projected;
+      }
+      if (faded > 0) {
+        // The lanes past the last faded point, to the widest vector's 16, compute zeros (unused).
+        for (size_t k = faded; k < std::min(FadeBatch::kSize, faded + 16); ++k) {
+          fade.r[k] = fade.g[k] = fade.b[k] = fade.vr[k] = fade.vg[k] = fade.vb[k] = fade.transmission[k] = 0.0f;
+          fade.staleness[k] = fade.rescaled[k] = 0;
+        }
+        fade_batch(settings_.view_fade_start, fade_span, fade, faded);
+        for (size_t k = 0; k < faded; ++k) projected_[faded_slots[k]].word |= fade.word[k];
       }
       // The free slots (expired ones included), ascending.
       size_t free = 0;
@@ -1067,13 +1119,13 @@ size_t PointCache::remove_listed() {
 }
 
 uint32_t PointCache::faded_srgb(const CachePoint& p, const PointColour& c, float transmission_now, bool by_steps) const {
-  const float staleness = float(p.staleness) / 16.0f;
-  const float fade = std::clamp((staleness - settings_.view_fade_start) /
-                                    std::max(settings_.view_fade_end - settings_.view_fade_start, 1e-3f), 0.0f, 1.0f);
-  const glm::vec3 shown_view = c.view_dependent * (1.0f - fade);
-  const glm::vec3 shown = p.srgb >> 24 ? (c.color - c.view_dependent) * transmission_now + shown_view
-                                       : c.color - c.view_dependent * fade;
-  return by_steps ? pack_srgb_by_steps(shown, shown_view) : pack_srgb(shown, shown_view);
+  const float fade_span = std::max(settings_.view_fade_end - settings_.view_fade_start, 1e-3f);
+  const bool rescaled = (p.srgb >> 24) != 0;
+  if (by_steps)
+    return faded_colour_word(c.color, c.view_dependent, p.staleness, rescaled, transmission_now, settings_.view_fade_start, fade_span);
+  glm::vec3 shown, shown_view;
+  faded_colours(c.color, c.view_dependent, p.staleness, rescaled, transmission_now, settings_.view_fade_start, fade_span, shown, shown_view);
+  return pack_srgb(shown, shown_view);
 }
 
 float PointCache::transmission_now(const CachePoint& p) const {

@@ -248,10 +248,13 @@ class PointCache {
   // with encode_epi_color8_by_steps
   static constexpr float kTransmissionTolerance = 0.08f;
   uint32_t display_srgb(const CachePoint& p, const PointColour& c, float transmission_now, bool by_steps = false) const {
+    return shows_faded(p, transmission_now) ? faded_srgb(p, c, transmission_now, by_steps) : p.srgb & 0xffffffu;
+  }
+  // Whether display_srgb computes the colour (faded_srgb) instead of taking srgb as stored.
+  bool shows_faded(const CachePoint& p, float transmission_now) const {
     const float then = float(p.srgb >> 24);
     const bool rescale = then > 0.0f && std::abs(transmission_now * 255.0f - then) > kTransmissionTolerance * then;
-    return float(p.staleness) / 16.0f <= settings_.view_fade_start && !rescale ? p.srgb & 0xffffffu
-                                                                             : faded_srgb(p, c, transmission_now, by_steps);
+    return !(float(p.staleness) / 16.0f <= settings_.view_fade_start && !rescale);
   }
   uint32_t faded_srgb(const CachePoint& p, const PointColour& c, float transmission_now, bool by_steps) const;
   // The current view's diffuse transmission at p (brdf.h; 1 without a normal), from the eye of the
@@ -339,8 +342,10 @@ class PointCache {
   // fill_epi's colour word: display colour and priority age
   uint32_t epi_color_word(size_t slot, float transmission_now) const {
     const CachePoint& p = points_[slot];
-    return display_srgb(p, colours_[slot], transmission_now, true) |
-           uint32_t(std::min<int>(priority_age(p, stored_terms(p)), 255)) << bits::kAgeShift;
+    return display_srgb(p, colours_[slot], transmission_now, true) | priority_bits(p);
+  }
+  uint32_t priority_bits(const CachePoint& p) const {  // the colour word's age byte
+    return uint32_t(std::min<int>(priority_age(p, stored_terms(p)), 255)) << bits::kAgeShift;
   }
   void window_min_depth(int radius);  // min_depth_: the least depth over each pixel's (2r+1)^2 window
   void window_min(const std::vector<float>& depth, int radius, std::vector<float>& min_depth);  // the same of any image

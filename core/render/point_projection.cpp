@@ -10,6 +10,8 @@
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 #include <hwy/highway.h>
 
+#include "epi/epi_pixel.h"
+
 HWY_BEFORE_NAMESPACE();
 namespace epi::render {
 namespace HWY_NAMESPACE {
@@ -250,6 +252,64 @@ HWY_INLINE void UnpackWinnersRow(const uint64_t* keys, const uint32_t* winner, c
   for (; i < n; ++i) unpack_winner(keys[i], records[winner[i]], out, i);
 }
 
+// encode_by_steps (point_cache.cpp) in lanes: 0 below the first step (and NaN), else the bucket's
+// start code plus the steps passed in `scans` scans.
+template <class D>
+HWY_INLINE hn::Vec<hn::RebindToSigned<D>> EncodeBySteps(D d, const ColourStepTables& t, hn::Vec<D> linear) {
+  const hn::RebindToSigned<D> di;
+  const hn::RebindToUnsigned<D> du;
+  const auto shown = hn::RebindMask(di, hn::Ge(linear, hn::Set(d, t.steps[1])));
+  const auto bucket = hn::Min(hn::Sub(hn::ShiftRight<16>(hn::BitCast(du, linear)), hn::Set(du, t.first)), hn::Set(du, t.buckets - 1));
+  auto k = hn::GatherIndex(di, t.start, hn::BitCast(di, bucket));
+  const auto one = hn::Set(di, 1);
+  for (int s = 0; s < t.scans; ++s) {
+    const auto next = hn::GatherIndex(d, t.steps, hn::Add(k, one));
+    k = hn::Add(k, hn::IfThenElseZero(hn::RebindMask(di, hn::Le(next, linear)), one));
+  }
+  return hn::IfThenElseZero(shown, k);
+}
+
+// std::max(a, b) and std::min(a, b) (glm's too), ties and NaNs included: (a < b) ? b : a and (b < a) ? b : a.
+template <class V>
+HWY_INLINE V StdMax(V a, V b) { return hn::IfThenElse(hn::Lt(a, b), b, a); }
+template <class V>
+HWY_INLINE V StdMin(V a, V b) { return hn::IfThenElse(hn::Lt(b, a), b, a); }
+
+// faded_colour_word, a vector of points at a time: faded_colours, epi_colour and the encoding,
+// the same operations in the same order.
+void FadeBatchKernel(float fade_start, float fade_span, FadeBatch& b, size_t n) {
+  const hn::ScalableTag<float> d;
+  const hn::RebindToSigned<decltype(d)> di;
+  const ColourStepTables& t = colour_step_tables();
+  const auto zero = hn::Zero(d), one = hn::Set(d, 1.0f), sixteen = hn::Set(d, 16.0f);
+  const auto start = hn::Set(d, fade_start), span = hn::Set(d, fade_span), colour_max = hn::Set(d, kEpiColourMax);
+  for (size_t i = 0; i < n; i += hn::Lanes(d)) {
+    auto fade = hn::Div(hn::Sub(hn::Div(hn::ConvertTo(d, hn::Load(di, b.staleness + i)), sixteen), start), span);
+    fade = hn::IfThenElse(hn::Lt(fade, zero), zero, hn::IfThenElse(hn::Lt(one, fade), one, fade));  // std::clamp
+    const auto kept = hn::Sub(one, fade);
+    const auto rescaled = hn::RebindMask(d, hn::Ne(hn::Load(di, b.rescaled + i), hn::Zero(di)));
+    const auto transmission = hn::Load(d, b.transmission + i);
+    hn::Vec<decltype(d)> base[3], view[3];
+    const float* colour[3] = {b.r + i, b.g + i, b.b + i};
+    const float* view_dependent[3] = {b.vr + i, b.vg + i, b.vb + i};
+    for (int c = 0; c < 3; ++c) {
+      const auto vd = hn::Load(d, view_dependent[c]), col = hn::Load(d, colour[c]);
+      view[c] = hn::Mul(vd, kept);
+      const auto shown = hn::IfThenElse(rescaled, hn::Add(hn::Mul(hn::Sub(col, vd), transmission), view[c]), hn::Sub(col, hn::Mul(vd, fade)));
+      base[c] = StdMax(hn::Sub(shown, view[c]), zero);  // epi_colour from here
+    }
+    const auto largest = StdMax(base[0], StdMax(base[1], base[2]));
+    const auto scale = hn::IfThenElse(hn::Gt(largest, colour_max), hn::Div(colour_max, largest), one);
+    hn::Vec<decltype(di)> word = hn::Zero(di);
+    for (int c = 0; c < 3; ++c) {
+      const auto scaled = hn::Mul(base[c], scale);
+      const auto linear = StdMin(hn::Add(scaled, view[c]), StdMax(scaled, one));
+      word = hn::Or(word, hn::ShiftLeftSame(EncodeBySteps(d, t, linear), 8 * c));
+    }
+    hn::Store(hn::BitCast(hn::RebindToUnsigned<decltype(d)>(), word), hn::RebindToUnsigned<decltype(d)>(), b.word + i);
+  }
+}
+
 void UnpackWinners(const uint64_t* keys, const uint32_t* winner, size_t pitch, const ProjectedPoint* records,
                    size_t columns, size_t rows, const WinnerPlanes& out, size_t out_pitch) {
   for (size_t r = 0; r < rows; ++r) {
@@ -269,6 +329,11 @@ namespace epi::render {
 HWY_EXPORT(ProjectBatchFrame);
 HWY_EXPORT(UnpackWinners);
 HWY_EXPORT(GatherBatch);
+HWY_EXPORT(FadeBatchKernel);
+
+void fade_batch(float fade_start, float fade_span, FadeBatch& batch, size_t n) {
+  HWY_DYNAMIC_DISPATCH(FadeBatchKernel)(fade_start, fade_span, batch, n);
+}
 
 void project_batch(const ViewFrame& frame, ProjectionBatch& batch, size_t n) {
   HWY_DYNAMIC_DISPATCH(ProjectBatchFrame)(frame, batch, n);

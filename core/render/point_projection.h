@@ -136,6 +136,38 @@ struct ProjectedPoint {
 };
 static_assert(sizeof(ProjectedPoint) == 16);
 
+// encode_epi_color8_by_steps' tables (point_cache.cpp builds them once): steps[k] the least
+// float that encodes to k or more, start[b] the code of bucket b's least float (the floats whose
+// top 16 bits are first + b), `scans` the most steps any bucket's floats lie above its start.
+struct ColourStepTables {
+  const float* steps;    // 257 entries
+  const int32_t* start;  // `buckets` entries
+  uint32_t first, buckets;
+  int scans;
+};
+const ColourStepTables& colour_step_tables();
+
+// A faded colour (PointCache::faded_srgb): the view-dependent part of a point's colour faded by
+// its staleness, the diffuse part times the current view's transmission where the point keeps it
+// divided by the shading view's, encoded by steps. `fade_span`: max(view_fade_end -
+// view_fade_start, 1e-3), as faded_srgb computes it.
+uint32_t faded_colour_word(const glm::vec3& color, const glm::vec3& view_dependent, int staleness, bool rescaled,
+                           float transmission_now, float fade_start, float fade_span);
+
+// faded_colour_word for a batch of points at once (the points the projection finds faded: most
+// of the drawn ones on glossy scenes in motion), bit-identical.
+struct FadeBatch {
+  static constexpr size_t kSize = ProjectionBatch::kSize;
+  alignas(64) float r[kSize], g[kSize], b[kSize];     // PointColour::color
+  alignas(64) float vr[kSize], vg[kSize], vb[kSize];  // PointColour::view_dependent
+  alignas(64) int32_t staleness[kSize];               // CachePoint::staleness
+  alignas(64) int32_t rescaled[kSize];                // 1: the diffuse part is kept divided by the shading view's transmission
+  alignas(64) float transmission[kSize];              // the current view's diffuse transmission
+  alignas(64) uint32_t word[kSize];                   // out: faded_colour_word
+};
+// Fills word[0..n); the inputs must be set up to n rounded up to 16 (a vector's lanes), or kSize.
+void fade_batch(float fade_start, float fade_span, FadeBatch& batch, size_t n);
+
 // The image planes a z-buffer's winners are unpacked into, at one pixel or the first of a run.
 struct WinnerPlanes {
   int32_t* point;     // the winner's slot (the key's index), -1: empty

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -17,6 +18,7 @@
 
 #include "render/point_cache_detail.h"
 #include "render/point_projection.h"
+#include "epi/epi_pixel.h"
 #include "shade/brdf.h"
 
 namespace epi::render {
@@ -240,6 +242,62 @@ TEST(PointProjection, EveryTargetUnpacksTheWinnersAsTheScalarCode) {
       EXPECT_TRUE(image == expected) << hwy::TargetName(target) << ", " << columns << " columns";
     }
     EXPECT_GT(std::min(empty, drawn), size_t(1000)) << hwy::TargetName(target);
+  }
+  hwy::SetSupportedTargetsForTest(0);
+}
+
+// Random colours and view-dependent parts (up to past kEpiColourMax, view-dependent parts larger
+// than the colour, zeros, a few not finite), every staleness, both kinds of point, transmissions
+// in [0, 1.2], colours on the encoding's steps and one float either side, fade windows including
+// the smallest span, partial batches: fade_batch equals faded_colour_word bit for bit.
+TEST(PointProjection, EveryTargetFadesColoursAsTheScalarCode) {
+  const std::vector<int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  ASSERT_FALSE(targets.empty());
+  const ColourStepTables& steps = colour_step_tables();
+  for (const int64_t target : targets) {
+    hwy::SetSupportedTargetsForTest(target);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f), log_colour(std::log(1e-4f), std::log(200.0f));
+    size_t on_steps = 0, scaled = 0, codes[3] = {0, 0, 0};  // codes: 0, 1-254, 255
+    for (int round = 0; round < 60 && !HasFailure(); ++round) {
+      const float fade_start = round % 3 == 0 ? 2.0f : 4.0f * unit(rng), fade_span = round % 5 == 0 ? 1e-3f : 6.0f * unit(rng) + 1e-3f;
+      FadeBatch batch;
+      const size_t n = FadeBatch::kSize - size_t(round % 9) * 7;  // partial batches too
+      for (size_t k = 0; k < FadeBatch::kSize; ++k) {
+        float* colour[3] = {batch.r, batch.g, batch.b};
+        float* view[3] = {batch.vr, batch.vg, batch.vb};
+        for (int c = 0; c < 3; ++c) {
+          colour[c][k] = k % 13 == 0 ? 0.0f : std::exp(log_colour(rng));
+          view[c][k] = k % 3 == 0 ? 0.0f : colour[c][k] * 1.3f * unit(rng);  // some above the colour
+          if (k % 7 == 0) {  // on a step of the encoding or a float either side, shown as it is
+            const float step = steps.steps[1 + rng() % 255];
+            colour[c][k] = (c == 0 ? step : c == 1 ? std::nextafter(step, 0.0f) : std::nextafter(step, 1e9f));
+            view[c][k] = 0.0f;
+          }
+        }
+        if (k % 61 == 0) batch.g[k] = std::numeric_limits<float>::quiet_NaN();
+        if (k % 67 == 0) batch.b[k] = std::numeric_limits<float>::infinity();
+        batch.staleness[k] = int32_t(k % 7 == 0 ? 0 : rng() % 256);
+        batch.rescaled[k] = int32_t(k % 7 != 0 && rng() % 2);
+        batch.transmission[k] = 1.2f * unit(rng);
+      }
+      fade_batch(fade_start, fade_span, batch, n);
+      for (size_t k = 0; k < n; ++k) {
+        const glm::vec3 colour(batch.r[k], batch.g[k], batch.b[k]), view(batch.vr[k], batch.vg[k], batch.vb[k]);
+        const uint32_t expected = faded_colour_word(colour, view, batch.staleness[k], batch.rescaled[k] != 0,
+                                                    batch.transmission[k], fade_start, fade_span);
+        ASSERT_EQ(batch.word[k], expected) << hwy::TargetName(target) << ", round " << round << ", entry " << k;
+        on_steps += k % 7 == 0;
+        scaled += std::max({colour.r, colour.g, colour.b}) > kEpiColourMax;
+        for (int c = 0; c < 3; ++c) {
+          const uint32_t code = (expected >> (8 * c)) & 255;
+          ++codes[code == 0 ? 0 : code == 255 ? 2 : 1];
+        }
+      }
+    }
+    EXPECT_GT(on_steps, size_t(1000)) << hwy::TargetName(target);
+    EXPECT_GT(scaled, size_t(100)) << hwy::TargetName(target);  // the scale to kEpiColourMax
+    EXPECT_GT(std::min({codes[0], codes[1], codes[2]}), size_t(100)) << hwy::TargetName(target);
   }
   hwy::SetSupportedTargetsForTest(0);
 }
