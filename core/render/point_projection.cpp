@@ -1,5 +1,5 @@
-// project_batch and unpack_winners for every Highway target (foreach_target.h compiles this file
-// once per target).
+// project_batch, gather_batch, unpack_winners and fade_batch for every Highway target
+// (foreach_target.h compiles this file once per target).
 #include "render/point_projection.h"
 
 #include <algorithm>

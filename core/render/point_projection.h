@@ -10,6 +10,8 @@
 //   object's transform, the eye in the object's space), as gather_input does one point.
 // - unpack_winners: a tile's z-buffer winners into the image's planes, as unpack_winner does
 //   one pixel (the same test file).
+// - fade_batch: the faded colour words of a batch of points, as faded_colour_word makes one (the
+//   same test file).
 #pragma once
 
 #include <algorithm>

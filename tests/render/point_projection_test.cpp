@@ -4,8 +4,8 @@
 // (detail::staleness_steps of the cosine PointCache::view_staleness computes), the back-face
 // test equal to detail::faces_away, the diffuse transmission to brdf.h's of detail::facing_cosine
 // bit for bit, the placement in the image's tiles equal to place()'s;
-// the gathered inputs equal to gather_input's; and the
-// z-buffer's unpacking equal to unpack_winner's.
+// the gathered inputs equal to gather_input's; the
+// z-buffer's unpacking equal to unpack_winner's; and the faded colours equal to faded_colour_word's.
 #include <algorithm>
 #include <bit>
 #include <cmath>
