@@ -208,33 +208,11 @@ size_t sparse_blend(RgbImage& image, const EpiImage& epi, std::span<const uint8_
     tbb::parallel_for(0, (h + L - 1) / L, [&](int group) {
       thread_local std::vector<float> lanes, keep, forward;
       lanes.resize(size_t(w) * C * L), keep.resize(size_t(w) * L), forward.resize(size_t(w) * C * L);
-      // The group's rows that lie in the image; rows below it stay zeros, kept still.
-      const int rows = std::min(L, h - group * L);
-      const size_t first = size_t(group) * L * size_t(w);
-      if (rows < L) std::fill(lanes.begin(), lanes.end(), 0.0f), std::fill(keep.begin(), keep.end(), 0.0f);
-      for (int x = 0; x < w; ++x) {
-        float* v = lanes.data() + size_t(x) * C * L;  // channel c of row r at v[c L + r]
-        float* kept = keep.data() + size_t(x) * L;
-        for (int r = 0; r < rows; ++r) {
-          const size_t i = first + size_t(r) * size_t(w) + size_t(x);
-          kept[r] = float(barrier[i] == 0);
-          float value[C];
-          if (k == 0) pixel_values(epi, barrier, lut, i, value);
-          else for (size_t c = 0; c < C; ++c) value[c] = planes[c * n + i];
-          for (size_t c = 0; c < C; ++c) v[c * L + size_t(r)] = value[c];
-        }
-      }
+      const SparseRowGroup rows{epi.edge.data(), k == 0 ? epi.color.data() : nullptr, lut, planes, n, barrier.data(), w,
+                                std::min(L, h - group * L), size_t(group) * L * size_t(w)};
+      gather_row_lanes(rows, lanes.data(), keep.data());
       filter_row_lanes(lanes.data(), keep.data(), forward.data(), w, a);
-      // Back to the planes in blocks of 16 pixels: each plane row's cache line written at once.
-      for (int x0 = 0; x0 < w; x0 += 16) {
-        const int x1 = std::min(w, x0 + 16);
-        for (size_t c = 0; c < C; ++c)
-          for (int r = 0; r < rows; ++r) {
-            float* out = planes + c * n + first + size_t(r) * size_t(w);
-            const float* in = lanes.data() + c * L + size_t(r);
-            for (int x = x0; x < x1; ++x) out[x] = in[size_t(x) * C * L];
-          }
-      }
+      scatter_row_lanes(rows, lanes.data());
     });
     // Columns, in strips; the last iteration's blends the image instead of writing the planes.
     const bool last = k + 1 == settings.iterations;

@@ -151,6 +151,131 @@ size_t FilterColumnStrip(const SparseColumnStrip& s) {
   return changed;
 }
 
+constexpr size_t L = kSparseRowLanes;
+
+// Row r of the group at pixels [x, x + N): its C values (zeros below the group's rows) and its
+// keep flag. From the EPI as sparse_blend.cpp's pixel_values: linear r, g, b and a weight of 1
+// where it holds a sample and no barrier, a mass of 1 where no barrier; or from the planes.
+template <class D>
+HWY_INLINE void RowValues(D d, const SparseRowGroup& g, size_t r, size_t x, hn::Vec<D> v[C], hn::Vec<D>& keep) {
+  const hn::RebindToSigned<D> di;
+  const hn::RebindToUnsigned<D> du;
+  const hn::Rebind<uint8_t, D> d8;
+  const hn::Rebind<uint16_t, D> d16;
+  const auto zero = hn::Zero(d), one = hn::Set(d, 1.0f);
+  if (r >= size_t(g.rows)) {
+    for (size_t c = 0; c < C; ++c) v[c] = zero;
+    keep = zero;
+    return;
+  }
+  const size_t i = g.first + r * size_t(g.width) + x;
+  const auto open = hn::Eq(hn::PromoteTo(di, hn::LoadU(d8, g.barrier + i)), hn::Zero(di));
+  keep = hn::IfThenElseZero(hn::RebindMask(d, open), one);
+  if (!g.color) {
+    for (size_t c = 0; c < C; ++c) v[c] = hn::LoadU(d, g.planes + c * g.plane + i);
+    return;
+  }
+  const auto flagged = hn::And(hn::PromoteTo(di, hn::LoadU(d16, g.edge + i)), hn::Set(di, int32_t(bits::kHasSample)));
+  const auto sample = hn::And(open, hn::Ne(flagged, hn::Zero(di)));
+  const auto colour = hn::IfThenElseZero(hn::RebindMask(du, sample), hn::LoadU(du, g.color + i));
+  const auto byte = hn::Set(du, 255u);
+  v[0] = hn::GatherIndex(d, g.lut, hn::BitCast(di, hn::And(colour, byte)));
+  v[1] = hn::GatherIndex(d, g.lut, hn::BitCast(di, hn::And(hn::ShiftRight<8>(colour), byte)));
+  v[2] = hn::GatherIndex(d, g.lut, hn::BitCast(di, hn::And(hn::ShiftRight<16>(colour), byte)));
+  v[3] = hn::IfThenElseZero(hn::RebindMask(d, sample), one);
+  v[4] = keep;
+}
+
+#if HWY_TARGET != HWY_SCALAR  // (one lane: never called)
+// v[0..7], eight rows of eight floats, become its eight columns (column j in v[j]).
+template <class D>
+HWY_INLINE void Transpose8(D d, hn::Vec<D> v[8]) {
+  using V = hn::Vec<D>;
+  const hn::Repartition<double, D> dd;
+  V t[8];
+  for (size_t k = 0; k < 8; k += 2) {
+    t[k] = hn::InterleaveLower(d, v[k], v[k + 1]);      // a0 b0 a1 b1 | a4 b4 a5 b5
+    t[k + 1] = hn::InterleaveUpper(d, v[k], v[k + 1]);  // a2 b2 a3 b3 | a6 b6 a7 b7
+  }
+  auto pairs_lower = [&](V a, V b) { return hn::BitCast(d, hn::InterleaveLower(dd, hn::BitCast(dd, a), hn::BitCast(dd, b))); };
+  auto pairs_upper = [&](V a, V b) { return hn::BitCast(d, hn::InterleaveUpper(dd, hn::BitCast(dd, a), hn::BitCast(dd, b))); };
+  // Rows 0-3 (u[0..3]) and 4-7 (u[4..7]) at columns j | j + 4.
+  const V u[8] = {pairs_lower(t[0], t[2]), pairs_upper(t[0], t[2]), pairs_lower(t[1], t[3]), pairs_upper(t[1], t[3]),
+                  pairs_lower(t[4], t[6]), pairs_upper(t[4], t[6]), pairs_lower(t[5], t[7]), pairs_upper(t[5], t[7])};
+  for (size_t j = 0; j < 4; ++j) {
+    v[j] = hn::ConcatLowerLower(d, u[4 + j], u[j]);
+    v[j + 4] = hn::ConcatUpperUpper(d, u[4 + j], u[j]);
+  }
+}
+#endif
+
+// The group's pixels [x, x + N) into the lanes: N = 8 in transposes, or N = 1.
+template <class D>
+HWY_INLINE void GatherSpan(D d, const SparseRowGroup& g, size_t x, float* HWY_RESTRICT lanes, float* HWY_RESTRICT keep) {
+  constexpr size_t N = hn::MaxLanes(D());
+  static_assert(N == L || N == 1);
+  hn::Vec<D> v[C][L], kept[L], row[C];
+  for (size_t r = 0; r < L; ++r) {
+    RowValues(d, g, r, x, row, kept[r]);
+    for (size_t c = 0; c < C; ++c) v[c][r] = row[c];
+  }
+  if constexpr (N == L) {
+    for (size_t c = 0; c < C; ++c) {
+      Transpose8(d, v[c]);
+      for (size_t j = 0; j < N; ++j) hn::StoreU(v[c][j], d, lanes + ((x + j) * C + c) * L);
+    }
+    Transpose8(d, kept);
+    for (size_t j = 0; j < N; ++j) hn::StoreU(kept[j], d, keep + (x + j) * L);
+  } else {
+    for (size_t r = 0; r < L; ++r) {
+      for (size_t c = 0; c < C; ++c) lanes[(x * C + c) * L + r] = hn::GetLane(v[c][r]);
+      keep[x * L + r] = hn::GetLane(kept[r]);
+    }
+  }
+}
+
+// The lanes of pixels [x, x + N) back into the group's rows of the planes.
+template <class D>
+HWY_INLINE void ScatterSpan(D d, const SparseRowGroup& g, size_t x, const float* HWY_RESTRICT lanes) {
+  constexpr size_t N = hn::MaxLanes(D());
+  static_assert(N == L || N == 1);
+  const size_t rows = size_t(g.rows);
+  for (size_t c = 0; c < C; ++c) {
+    float* plane = g.planes + c * g.plane + g.first + x;
+    if constexpr (N == L) {
+      hn::Vec<D> v[L];
+      for (size_t j = 0; j < N; ++j) v[j] = hn::LoadU(d, lanes + ((x + j) * C + c) * L);
+      Transpose8(d, v);
+      for (size_t r = 0; r < rows; ++r) hn::StoreU(v[r], d, plane + r * size_t(g.width));
+    } else {
+      for (size_t r = 0; r < rows; ++r) plane[r * size_t(g.width)] = lanes[(x * C + c) * L + r];
+    }
+  }
+}
+
+template <class D>
+void GatherRows(D d, const SparseRowGroup& g, float* HWY_RESTRICT lanes, float* HWY_RESTRICT keep) {
+  size_t x = 0;
+  if constexpr (hn::MaxLanes(D()) == L)
+    for (; x + L <= size_t(g.width); x += L) GatherSpan(d, g, x, lanes, keep);
+  for (const hn::CappedTag<float, 1> d1; x < size_t(g.width); ++x) GatherSpan(d1, g, x, lanes, keep);
+}
+
+template <class D>
+void ScatterRows(D d, const SparseRowGroup& g, const float* HWY_RESTRICT lanes) {
+  size_t x = 0;
+  if constexpr (hn::MaxLanes(D()) == L)
+    for (; x + L <= size_t(g.width); x += L) ScatterSpan(d, g, x, lanes);
+  for (const hn::CappedTag<float, 1> d1; x < size_t(g.width); ++x) ScatterSpan(d1, g, x, lanes);
+}
+
+void GatherRowLanes(const SparseRowGroup& g, float* HWY_RESTRICT lanes, float* HWY_RESTRICT keep) {
+  GatherRows(hn::CappedTag<float, L>(), g, lanes, keep);
+}
+void ScatterRowLanes(const SparseRowGroup& g, const float* HWY_RESTRICT lanes) {
+  ScatterRows(hn::CappedTag<float, L>(), g, lanes);
+}
+
 }  // namespace HWY_NAMESPACE
 }  // namespace epi::render
 HWY_AFTER_NAMESPACE();
@@ -160,11 +285,17 @@ namespace epi::render {
 
 HWY_EXPORT(FilterRowLanes);
 HWY_EXPORT(FilterColumnStrip);
+HWY_EXPORT(GatherRowLanes);
+HWY_EXPORT(ScatterRowLanes);
 
 void filter_row_lanes(float* lanes, const float* keep, float* forward, int width, float a) {
   HWY_DYNAMIC_DISPATCH(FilterRowLanes)(lanes, keep, forward, width, a);
 }
 size_t filter_column_strip(const SparseColumnStrip& strip) { return HWY_DYNAMIC_DISPATCH(FilterColumnStrip)(strip); }
+void gather_row_lanes(const SparseRowGroup& group, float* lanes, float* keep) {
+  HWY_DYNAMIC_DISPATCH(GatherRowLanes)(group, lanes, keep);
+}
+void scatter_row_lanes(const SparseRowGroup& group, const float* lanes) { HWY_DYNAMIC_DISPATCH(ScatterRowLanes)(group, lanes); }
 
 }  // namespace epi::render
 #endif  // HWY_ONCE

@@ -17,6 +17,26 @@ namespace epi::render {
 inline constexpr int kSparseRowLanes = 8;
 void filter_row_lanes(float* lanes, const float* keep, float* forward, int width, float a);
 
+// A group of kSparseRowLanes rows moved into that layout and back: its `rows` rows in the image
+// (rows below them are zeros, kept still) from pixel `first`, `width` apart. The values come from
+// the EPI where `color` is set (the first iteration; sparse_blend.cpp's pixel_values), else from
+// the planes (plane c of pixel i at planes[c * plane + i]); keep is barrier[i] == 0. On targets
+// with 8 float lanes in 8 x 8 transposes, else pixel by pixel; data movement only, so every target
+// gives the same bits.
+struct SparseRowGroup {
+  const uint16_t* edge;  // EpiImage::edge, or nullptr with color
+  const uint32_t* color; // EpiImage::color, or nullptr: read the planes
+  const float* lut;      // epi_color8_to_linear()
+  float* planes;
+  size_t plane;
+  const uint8_t* barrier;
+  int width, rows;
+  size_t first;
+};
+void gather_row_lanes(const SparseRowGroup& group, float* lanes, float* keep);
+// The filtered lanes back into the group's rows of the planes.
+void scatter_row_lanes(const SparseRowGroup& group, const float* lanes);
+
 // The column pass over the strip of columns [x0, x0 + kSparseStrip) (or to the image's right side)
 // of the planes (plane c of pixel i at planes[c * plane + i], rows `width` apart), the keep flag
 // being barrier[i] == 0. Without `image`, the filtered values replace the planes'; with it, they
