@@ -268,8 +268,6 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       const size_t count = std::min(ProjectionBatch::kSize, block_end - first);
       size_t valid = 0;
       for (size_t k = 0; k < count; ++k) {
-        // Two batches ahead (the hardware prefetch did not keep this stream ahead: 5 % of the projection)
-        __builtin_prefetch(&points_[std::min(first + k + 2 * ProjectionBatch::kSize, n - 1)], 1);
         slots[valid] = uint32_t(first + k);
         valid += size_t(points_[first + k].valid);
         point_tile_[first + k] = kNoTile;
@@ -278,9 +276,15 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       for (size_t k = valid; k < std::min(ProjectionBatch::kSize, valid + 16) && valid > 0; ++k) slots[k] = slots[valid - 1];
       gather_batch(cloud, uint32_t(first), slots.data(), valid, placement, batch);
       project_batch(frame, batch, valid);
+      // The next batch's records, a cache line per point of this one, the rest after: spread over
+      // the work (a burst of prefetches before it waited for the line fill buffers as the loads
+      // did: docs/performance.md, "Point processing").
+      const char* ahead = reinterpret_cast<const char*>(points_.data() + std::min(n, first + ProjectionBatch::kSize));
+      const char* const ahead_end = reinterpret_cast<const char*>(points_.data() + std::min(n, first + 2 * ProjectionBatch::kSize));
       size_t faded = 0;
       for (size_t k = 0; k < valid; ++k) {
         const size_t i = slots[k];
+        if (ahead < ahead_end) __builtin_prefetch(ahead, 1), ahead += 64;
         // The colour record 16 points ahead (read below for fade_batch: 37 % of faded_srgb's
         // samples waited on it when it read the record)
         __builtin_prefetch(&colours_[slots[std::min(k + 16, valid - 1)]]);
@@ -323,6 +327,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         ++block.tile_count[tile];
         ++projected;
       }
+      for (; ahead < ahead_end; ahead += 64) __builtin_prefetch(ahead, 1);
       if (faded > 0) {
         // The lanes past the last faded point, to the widest vector's 16, compute zeros (unused).
         for (size_t k = faded; k < std::min(FadeBatch::kSize, faded + 16); ++k) {
