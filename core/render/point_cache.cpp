@@ -32,7 +32,6 @@ constexpr size_t kPointBlock = 16384;
 // unpacking writes long runs of each image plane (256 x 16: the projection 1.07-1.11x faster
 // than 64 x 64 at 1080p; docs/performance.md, "Point processing").
 constexpr int kTileWidth = TileLayout::kWidth, kTileHeight = TileLayout::kHeight, kBandRows = 8;
-constexpr uint32_t kNoTile = ~uint32_t(0);  // a point not drawn this frame
 constexpr uint16_t kShowsNothing = 0x8000;     // age bin flag: shows_nothing (fill_epi leaves the pixel empty)
 
 }  // namespace
@@ -244,7 +243,8 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
                                  frame.eye(), background_depth_, kMinLobeWidth};
 
   // 1. Aging and projection (blocks of points in parallel): each point's record (z-buffer key,
-  // EPI colour word, age bin, pixel within its tile) and tile (kNoTile: not drawn), counted per tile.
+  // EPI colour word, age bin, pixel within its tile) and tile, listed in slot order from the
+  // block's first slot (only the points drawn: the binning reads no other), counted per tile.
   const size_t n = points_.size();
   point_blocks_.resize((n + kPointBlock - 1) / kPointBlock);
   projected_.resize(n), point_tile_.resize(n);
@@ -270,7 +270,6 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
       for (size_t k = 0; k < count; ++k) {
         slots[valid] = uint32_t(first + k);
         valid += size_t(points_[first + k].valid);
-        point_tile_[first + k] = kNoTile;
       }
       // The lanes past the last valid point, to the widest vector's 16, project it again (unused).
       for (size_t k = valid; k < std::min(ProjectionBatch::kSize, valid + 16) && valid > 0; ++k) slots[k] = slots[valid - 1];
@@ -318,12 +317,13 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         fade.r[faded] = c.color.r, fade.g[faded] = c.color.g, fade.b[faded] = c.color.b;
         fade.vr[faded] = c.view_dependent.r, fade.vg[faded] = c.view_dependent.g, fade.vb[faded] = c.view_dependent.b;
         fade.staleness[faded] = p.staleness, fade.rescaled[faded] = int32_t((p.srgb >> 24) != 0);
-        fade.transmission[faded] = transmission, faded_slots[faded] = uint32_t(i);
+        const size_t at = b * kPointBlock + projected;  // the block's list
+        fade.transmission[faded] = transmission, faded_slots[faded] = uint32_t(at);
         faded += size_t(fades);
-        projected_[i] = {zkey(batch.depth[k], int(spot >> 16), uint32_t(i)), (fades ? 0u : p.srgb & 0xffffffu) | priority_bits(p),
+        projected_[at] = {zkey(batch.depth[k], int(spot >> 16), uint32_t(i)), (fades ? 0u : p.srgb & 0xffffffu) | priority_bits(p),
                          uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p, p.view_share) ? kShowsNothing : 0)),
                          uint16_t(spot)};
-        point_tile_[i] = tile;
+        point_tile_[at] = tile;
         ++block.tile_count[tile];
         ++projected;
       }
@@ -371,8 +371,8 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   binned_.resize(projected);
   tbb::parallel_for(size_t(0), point_blocks_.size(), [&](size_t b) {
     uint32_t* cursor = point_blocks_[b].tile_count.data();
-    for (size_t i = b * kPointBlock, end = std::min(n, i + kPointBlock); i != end; ++i)
-      if (const uint32_t tile = point_tile_[i]; tile != kNoTile) binned_[cursor[tile]++] = projected_[i];
+    for (size_t i = b * kPointBlock, end = i + point_blocks_[b].projected; i != end; ++i)
+      binned_[cursor[point_tile_[i]]++] = projected_[i];
   });
 
   // 3. Per tile (in parallel; a tile owns its pixels): the minimum keys in a z-buffer of the

@@ -393,8 +393,9 @@ class PointCache {
   std::vector<int32_t> winners_;   // z-buffer result before the depth cull
   std::vector<PointBlock> point_blocks_;
   std::vector<TileBlock> tile_blocks_;
-  // Per point, this frame: its record (point_projection.h: one record, so that the binning scatters
-  // one stream per tile), and its tile (none: ~0).
+  // Per point drawn this frame: its record (point_projection.h: one record, so that the binning
+  // scatters one stream per tile) and its tile, listed per block of the cloud from the block's
+  // first slot (block b's PointBlock::projected records from b kPointBlock).
   std::vector<ProjectedPoint> projected_;
   std::vector<uint32_t> point_tile_;
   // The same, binned by tile: tile t's are binned_[tile_begin_[t], tile_begin_[t + 1]).
