@@ -178,10 +178,6 @@ PointCache::PointCache(int width, int height, const PointCacheSettings& settings
   winners_.assign(pixels, -1);
 }
 
-size_t PointCache::valid_points() const {
-  return size_t(std::count_if(points_.begin(), points_.end(), [](const CachePoint& p) { return p.valid; }));
-}
-
 PointCache::ColourTerms PointCache::colour_terms(const PointColour& c) const {
   const float total = luminance(c.color);
   const float share = total > 0.0f ? std::clamp(luminance(c.view_dependent) / total, 0.0f, 1.0f) : 0.0f;
@@ -416,6 +412,7 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   }
 
   // Free the slots of expired points (all free slots, in descending order).
+  valid_points_ -= expired;
   if (expired > 0) {
     free_slots_.clear();
     for (size_t b = point_blocks_.size(); b-- > 0;)
@@ -811,6 +808,7 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
             replace = hidden;
           } else {
             q.valid = false, q.image_id = -1;
+            --valid_points_;
             free_slots_.push_back(uint32_t(hidden));
           }
         }
@@ -818,6 +816,7 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
     }
     const size_t slot = replace >= 0 ? size_t(replace) : take_slot();
     touch_slot(slot);
+    valid_points_ += size_t(!points_[slot].valid);
     points_[slot] = point, colours_[slot] = colour;
     seeded_at_[slot] = in_front_of_drawn ? projections_ + 1 : 0;
     if (in_front_of_drawn && new_occluder_rule()) recent_occluders_.push_back({uint32_t(slot), projections_ + 1});

@@ -208,7 +208,7 @@ class PointCache {
   const std::vector<CachePoint>& points() const { return points_; }
   const std::vector<PointColour>& colours() const { return colours_; }  // of points()[i]: colours()[i]
   size_t capacity() const { return points_.size(); }
-  size_t valid_points() const;
+  size_t valid_points() const { return valid_points_; }  // kept as slots change (no pass over the cloud)
   size_t hidden_removed() const { return hidden_removed_; }  // points whose slot a ray showed hidden
   size_t refined() const { return refined_; }                // results averaged into a point
   const PointCacheSettings& settings() const { return settings_; }
@@ -384,6 +384,7 @@ class PointCache {
   std::vector<CachePoint> points_;
   std::vector<PointColour> colours_;
   std::vector<uint32_t> free_slots_;
+  size_t valid_points_ = 0;
   size_t cursor_ = 0;
   int evict_age_ = 1;                   // take_slot's sweep takes points at least this old
   std::vector<uint32_t> age_histogram_;  // of the last projection less the points evicted since (not drawn last)

@@ -93,6 +93,7 @@ ProjectionCounts PointCache::project_reference(const ViewFrame& frame, std::span
   const size_t culled = depth_cull ? depth_cull_reference({}) : 0;
 
   // Free the slots of expired points.
+  valid_points_ -= counts.expired;
   if (counts.expired > 0) {
     free_slots_.clear();
     for (size_t i = points_.size(); i-- > 0;)

@@ -56,6 +56,11 @@ void expect_same_cache(const PointCache& fast, const PointCache& reference, cons
   EXPECT_EQ(first_difference(f.region, r.region), -1) << where << ": region image";
   ASSERT_EQ(fast.points().size(), reference.points().size());
   ASSERT_EQ(fast.colours().size(), reference.colours().size());
+  // The kept count (valid_points, read by the viewer every frame) against a count of the slots.
+  for (const PointCache* cache : {&fast, &reference})
+    EXPECT_EQ(cache->valid_points(), size_t(std::count_if(cache->points().begin(), cache->points().end(),
+                                                          [](const CachePoint& p) { return p.valid; })))
+        << where << (cache == &fast ? ": fast" : ": reference") << " path's valid count";
   for (size_t i = 0; i < fast.points().size(); ++i)
     if (!same_point(fast.points()[i], reference.points()[i]) || !same_colour(fast.colours()[i], reference.colours()[i])) {
       ADD_FAILURE() << where << ": cloud slot " << i << " differs";
