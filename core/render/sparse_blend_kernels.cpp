@@ -160,7 +160,6 @@ template <class D>
 HWY_INLINE void RowValues(D d, const SparseRowGroup& g, size_t r, size_t x, hn::Vec<D> v[C], hn::Vec<D>& keep) {
   const hn::RebindToSigned<D> di;
   const hn::RebindToUnsigned<D> du;
-  const hn::Rebind<uint8_t, D> d8;
   const hn::Rebind<uint16_t, D> d16;
   const auto zero = hn::Zero(d), one = hn::Set(d, 1.0f);
   if (r >= size_t(g.rows)) {
@@ -169,14 +168,14 @@ HWY_INLINE void RowValues(D d, const SparseRowGroup& g, size_t r, size_t x, hn::
     return;
   }
   const size_t i = g.first + r * size_t(g.width) + x;
-  const auto open = hn::Eq(hn::PromoteTo(di, hn::LoadU(d8, g.barrier + i)), hn::Zero(di));
-  keep = hn::IfThenElseZero(hn::RebindMask(d, open), one);
+  const auto open = Kept(d, g.barrier + i);
+  keep = hn::IfThenElseZero(open, one);
   if (!g.color) {
     for (size_t c = 0; c < C; ++c) v[c] = hn::LoadU(d, g.planes + c * g.plane + i);
     return;
   }
   const auto flagged = hn::And(hn::PromoteTo(di, hn::LoadU(d16, g.edge + i)), hn::Set(di, int32_t(bits::kHasSample)));
-  const auto sample = hn::And(open, hn::Ne(flagged, hn::Zero(di)));
+  const auto sample = hn::And(hn::RebindMask(di, open), hn::Ne(flagged, hn::Zero(di)));
   const auto colour = hn::IfThenElseZero(hn::RebindMask(du, sample), hn::LoadU(du, g.color + i));
   const auto byte = hn::Set(du, 255u);
   v[0] = hn::GatherIndex(d, g.lut, hn::BitCast(di, hn::And(colour, byte)));
@@ -253,27 +252,20 @@ HWY_INLINE void ScatterSpan(D d, const SparseRowGroup& g, size_t x, const float*
   }
 }
 
-template <class D>
-void GatherRows(D d, const SparseRowGroup& g, float* HWY_RESTRICT lanes, float* HWY_RESTRICT keep) {
+// span(d, x) over the row's pixels: eight at a time where d has eight lanes, then one at a time.
+template <class D, class Span>
+void ForEachSpan(D d, int width, const Span& span) {
   size_t x = 0;
   if constexpr (hn::MaxLanes(D()) == L)
-    for (; x + L <= size_t(g.width); x += L) GatherSpan(d, g, x, lanes, keep);
-  for (const hn::CappedTag<float, 1> d1; x < size_t(g.width); ++x) GatherSpan(d1, g, x, lanes, keep);
-}
-
-template <class D>
-void ScatterRows(D d, const SparseRowGroup& g, const float* HWY_RESTRICT lanes) {
-  size_t x = 0;
-  if constexpr (hn::MaxLanes(D()) == L)
-    for (; x + L <= size_t(g.width); x += L) ScatterSpan(d, g, x, lanes);
-  for (const hn::CappedTag<float, 1> d1; x < size_t(g.width); ++x) ScatterSpan(d1, g, x, lanes);
+    for (; x + L <= size_t(width); x += L) span(d, x);
+  for (const hn::CappedTag<float, 1> d1; x < size_t(width); ++x) span(d1, x);
 }
 
 void GatherRowLanes(const SparseRowGroup& g, float* HWY_RESTRICT lanes, float* HWY_RESTRICT keep) {
-  GatherRows(hn::CappedTag<float, L>(), g, lanes, keep);
+  ForEachSpan(hn::CappedTag<float, L>(), g.width, [&](auto d, size_t x) { GatherSpan(d, g, x, lanes, keep); });
 }
 void ScatterRowLanes(const SparseRowGroup& g, const float* HWY_RESTRICT lanes) {
-  ScatterRows(hn::CappedTag<float, L>(), g, lanes);
+  ForEachSpan(hn::CappedTag<float, L>(), g.width, [&](auto d, size_t x) { ScatterSpan(d, g, x, lanes); });
 }
 
 }  // namespace HWY_NAMESPACE

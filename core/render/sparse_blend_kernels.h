@@ -24,7 +24,7 @@ void filter_row_lanes(float* lanes, const float* keep, float* forward, int width
 // with 8 float lanes in 8 x 8 transposes, else pixel by pixel; data movement only, so every target
 // gives the same bits.
 struct SparseRowGroup {
-  const uint16_t* edge;  // EpiImage::edge, or nullptr with color
+  const uint16_t* edge;  // EpiImage::edge (read only with color)
   const uint32_t* color; // EpiImage::color, or nullptr: read the planes
   const float* lut;      // epi_color8_to_linear()
   float* planes;
