@@ -3,9 +3,11 @@
 #   1. one screenshot per stage view and one of the whole window (docs/images/viewer/),
 #   2. the --benchmark figures at 512x512 and 1920x1080, written into docs/viewer.md between the
 #      "viewer-benchmark" markers (with the machine and its load).
-# Usage: tools/viewer-figures.sh [BUILD_DIR]   (default: build; needs xvfb-run)
+# Usage: tools/viewer-figures.sh [--benchmark-only] [BUILD_DIR]   (default: build; needs xvfb-run)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+benchmark_only=false
+if [ "${1:-}" = --benchmark-only ]; then benchmark_only=true; shift; fi
 build=${1:-$root/build}
 viewer=$build/bin/epi-viewer
 scene=$root/scenes/cornell_box.gltf
@@ -14,6 +16,7 @@ mkdir -p "$images"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
+if ! $benchmark_only; then
 # 1. Stage views: the default Cornell box view, 320x320, after the cache has filled; the hovered
 #    pixel (reachability view) sits on the short block's top edge.
 {
@@ -48,16 +51,19 @@ xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$scene" --size 960x600 --scri
 printf 'wait 60\nwindow-screenshot %s\n' "$images/window-512.png" > "$work/window-512.txt"
 xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$scene" --script "$work/window-512.txt"
 
+fi
+
 # 2. Benchmarks: --benchmark orbits the camera a little every window frame.
 machine="$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), load $(cut -d' ' -f1-3 /proc/loadavg)"
-table="| size | window fps | frame loop fps (median ms) | display: texture upload from the frame's PBO (median / max ms) | with glFinish (median / max ms) | input to screen (median / p90 ms) |"$'\n'"|---|---|---|---|---|---|"
+table="| size | window fps | redraws a second | frame loop fps (median ms) | display: texture upload from the frame's PBO (median / max ms) | with glFinish (median / max ms) | input to screen (median / p90 ms) |"$'\n'"|---|---|---|---|---|---|---|"
 for size in 512x512 1920x1080; do
   out=$(xvfb-run -a -s "-screen 0 1920x1200x24" "$viewer" "$scene" --size "$size" --benchmark 300 --ui-fps 60)
   wfps=$(sed -n 's/^BENCHMARK_WINDOW_FPS \([0-9.]*\).*/\1/p' <<<"$out")
+  redraws=$(sed -n 's/^BENCHMARK_REDRAWS \([0-9.]*\).*/\1/p' <<<"$out")
   rfps=$(sed -n 's/^BENCHMARK_RENDER_FPS \([0-9.]*\).*frame-loop ms: median \([0-9.]*\).*/\1 (\2)/p' <<<"$out")
   disp=$(sed -n 's/^BENCHMARK_DISPLAY_MS median \([0-9.]*\), max \([0-9.]*\) .*with glFinish median \([0-9.]*\), max \([0-9.]*\)/\1 \/ \2|\3 \/ \4/p' <<<"$out")
   lat=$(sed -n 's/^BENCHMARK_LATENCY_MS median \([0-9.]*\), p90 \([0-9.]*\).*/\1 \/ \2/p' <<<"$out")
-  table+=$'\n'"| $size | $wfps | $rfps | ${disp%%|*} | ${disp##*|} | $lat |"
+  table+=$'\n'"| $size | $wfps | $redraws | $rfps | ${disp%%|*} | ${disp##*|} | $lat |"
 done
 block="<!-- viewer-benchmark:begin (tools/viewer-figures.sh writes this) -->"$'\n'"Measured $(date -u +%Y-%m-%d) on $machine; \`epi-viewer scenes/cornell_box.gltf --size WxH --benchmark 300\` under \`xvfb-run\` (Mesa llvmpipe), epi mode, direct shader, budget 0.02."$'\n\n'"$table"$'\n'"<!-- viewer-benchmark:end -->"
 BLOCK="$block" /usr/bin/python3 - "$root/docs/viewer.md" <<'PY'

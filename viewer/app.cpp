@@ -170,6 +170,8 @@ class Viewer {
   bool script_done() const { return script_at_ >= script_.size() && !script_hold_ && !script_drag_; }
   void mouse_button(int button, bool press, int mods, double x, double y);
   void cursor(double x, double y);
+  // A drag under way that moves the camera or an object (not a light: its marker follows the pointer).
+  bool moves_the_view() const { return drag_.kind != Drag::Kind::none && drag_.kind != Drag::Kind::light; }
   void scroll(double dy);
   void key(int key, bool press, int mods);
   void post_if_changed();
@@ -218,7 +220,11 @@ class Viewer {
   std::deque<std::pair<uint64_t, Clock::time_point>> pending_inputs_;  // user changes not yet on screen
   SessionFrame frame_;  // the newest frame taken
   std::string last_error_;  // the frame thread's last error, printed once
-  Clock::time_point last_activity_{}, last_draw_{};  // the last input event; the last redraw
+  // The last input that changes what the window draws other than through a new frame (the panel,
+  // a hover, a click, a key; not a camera or object drag, a dolly or a held key: docs/viewer.md,
+  // "Redraws"); the last redraw.
+  Clock::time_point last_activity_{}, last_draw_{};
+  size_t redraws_ = 0;  // window redraws, for --benchmark
   std::vector<uint32_t> staging_;
   Camera initial_camera_;
   std::vector<glm::mat4> loaded_objects_;
@@ -275,18 +281,22 @@ void Viewer::on_mouse_button(GLFWwindow* w, int button, int action, int mods) {
   viewer_of(w)->mouse_button(button, action == GLFW_PRESS, mods, x, y);
 }
 void Viewer::on_cursor(GLFWwindow* w, double x, double y) {
-  viewer_of(w)->last_activity_ = Clock::now();
-  viewer_of(w)->cursor(x, y);
+  Viewer& v = *viewer_of(w);
+  // A drag that moves the camera or an object shows only through the frames it causes.
+  if (!v.moves_the_view()) v.last_activity_ = Clock::now();
+  v.cursor(x, y);
 }
 void Viewer::on_scroll(GLFWwindow* w, double, double dy) {
-  viewer_of(w)->last_activity_ = Clock::now();
-  if (ImGui::GetIO().WantCaptureMouse) return;
-  viewer_of(w)->scroll(dy);
+  if (ImGui::GetIO().WantCaptureMouse) {
+    viewer_of(w)->last_activity_ = Clock::now();
+    return;
+  }
+  viewer_of(w)->scroll(dy);  // a dolly: shows through the frames it causes
 }
 void Viewer::on_key(GLFWwindow* w, int key, int, int action, int mods) {
+  if (action == GLFW_REPEAT) return;
   viewer_of(w)->last_activity_ = Clock::now();
   if (ImGui::GetIO().WantCaptureKeyboard && action != GLFW_RELEASE) return;
-  if (action == GLFW_REPEAT) return;
   viewer_of(w)->key(key, action == GLFW_PRESS, mods);
 }
 
@@ -1036,38 +1046,22 @@ int Viewer::run() {
     const uint64_t shown = frame_.number;
     ring_->maintain();
     take_newest_frame();
-    if (benchmark_started && frame_.number == shown && shown > 0) {
-      // No new frame this window frame: upload the newest one again, so the display cost per
-      // frame is measured on every window frame, not only as often as the renderer delivers.
-      SessionFrame again;
-      const auto t = Clock::now();
-      bool mapped = false;
-      session_->take_frame(0, again, [&](int w, int h) {
-        uint32_t* target = texture_->begin_upload(w, h);
-        mapped = target != nullptr;
-        return target;
-      });
-      if (mapped) texture_->finish_upload();
-      else if (again.display_tag >= 0) mapped = ring_->upload(again.display_tag, *texture_, again.width, again.height, true);
-      if (mapped) {
-        const double ms = ms_between(t, Clock::now());
-        glFinish();
-        upload_ms_.push_back(ms), upload_finish_ms_.push_back(ms_between(t, Clock::now()));
-      }
-    }
-
     // --frames N ends the run at frame N, unless a script runs: then it only stops the renderer.
     if (options_.frames > 0 && options_.script.empty() && frame_.number >= uint64_t(options_.frames)) quit_ = true;
 
-    // Redraw only when something changed (a new frame, recent input, a script, a drag, a held
-    // key) or a quarter second passed: on a shared CPU an idle window leaves the cores to the
-    // renderer. Input is still read at --ui-fps.
+    // Redraw only when the window would show something new: a frame, the panel or a hover after
+    // input (500 ms), a light's marker being dragged, a script, a screenshot, a resize, or a
+    // quarter second passed (the panel's figures). Navigation (a camera or object drag, a dolly,
+    // held keys) shows through the frames it causes: redrawing the same frame at --ui-fps while
+    // the user drags took most of a core from the renderer under a software GL (docs/viewer.md,
+    // "Redraws").
     const bool active = frame_.number != shown || ms_between(last_activity_, now) < 500.0 || !options_.script.empty() ||
-                        options_.benchmark > 0 || drag_.kind != Drag::Kind::none || !held_keys_.empty() ||
-                        !window_shots_.empty() || resize_pending_ || ms_between(last_draw_, now) > 250.0;
+                        drag_.kind == Drag::Kind::light || ImGui::GetIO().WantTextInput || !window_shots_.empty() ||
+                        resize_pending_ || ms_between(last_draw_, now) > 250.0;
     if (!active) continue;
     last_draw_ = now;
     ui_frames_.push_back(now);
+    redraws_ += benchmark_started;
     glViewport(0, 0, fb_width_, fb_height_);
     glClearColor(0.05f, 0.05f, 0.05f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
@@ -1095,6 +1089,8 @@ int Viewer::run() {
                 ui.median, ui.min, ui.max, ui.sigma);
     std::printf("BENCHMARK_RENDER_FPS %.1f (frames shown %.0f; frame-loop ms: median %.2f, min %.2f, max %.2f)\n",
                 seconds > 0 ? frames / seconds : 0.0, frames, rf.median, rf.min, rf.max);
+    std::printf("BENCHMARK_REDRAWS %.1f a second (%zu window redraws: a new frame, or the panel's quarter-second refresh)\n",
+                seconds > 0 ? double(redraws_) / seconds : 0.0, redraws_);
     std::printf("BENCHMARK_DISPLAY_MS median %.3f, max %.3f (the texture takes the frame from its pixel buffer, CPU); with glFinish median %.3f, max %.3f\n",
                 up.median, up.max, upf.median, upf.max);
     std::printf("BENCHMARK_DISPLAY_PATH %llu frames from the frame thread's pixel buffers, %llu copied (no buffer free)\n",
