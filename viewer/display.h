@@ -1,4 +1,4 @@
-// The display path of epi-viewer: linear frames to RGBA8 (DisplayEncoder, on the frame thread),
+// The display path of epi-viewer: linear frames to RGBA8 (DisplayEncoder, display_encoder.h, on the frame thread),
 // three persistently mapped pixel buffers the frame thread writes into (PixelRing), and the
 // texture the window blits (FrameTexture). Only app.cpp includes this; it needs a GL context.
 #pragma once
@@ -20,42 +20,10 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "display_encoder.h"
 #include "image/image.h"
-#include "image_io.h"
 
 namespace epi::viewer {
-
-// Linear RGB -> RGBA8 for display: io/image's tone map, then sRGB through a table (65537 entries:
-// at most one level from write_image's exact encoding, and that rarely).
-class DisplayEncoder {
- public:
-  DisplayEncoder() {
-    for (size_t i = 0; i < table_.size(); ++i) {
-      const float v = float(i) / float(table_.size() - 1);
-      const float s = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-      table_[i] = uint8_t(std::lround(std::clamp(s, 0.0f, 1.0f) * 255.0f));
-    }
-  }
-  void set_exposure(float stops) { exposure_.store(stops); }
-  float exposure() const { return exposure_.load(); }
-  void encode(const RgbImage& image, uint32_t* rgba) const {
-    const size_t pixels = size_t(image.width) * size_t(image.height);
-    const float stops = exposure_.load();
-    const float top = float(table_.size() - 1);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, pixels, 4096), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t i = r.begin(); i != r.end(); ++i) {
-        float d[3];
-        tone_map(&image.pixels[3 * i], stops, d);
-        rgba[i] = uint32_t(table_[size_t(d[0] * top + 0.5f)]) | uint32_t(table_[size_t(d[1] * top + 0.5f)]) << 8 |
-                  uint32_t(table_[size_t(d[2] * top + 0.5f)]) << 16 | 0xff000000u;
-      }
-    });
-  }
-
- private:
-  std::array<uint8_t, 65537> table_;
-  std::atomic<float> exposure_{0.0f};
-};
 
 // The newest frame on screen: two pixel buffer objects in turn feed one texture, which is blitted
 // to the window (no shader: "texture upload only").

@@ -38,22 +38,43 @@ float srgb_to_linear(float v) {
   return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
 }
 
-void tone_map(const float* linear, float exposure_stops, float* display) {
-  const float scale = std::exp2(exposure_stops);
+namespace {
+
+// One pixel of tone_map, the exposure's factor given.
+inline void tone_map_scaled(const float* linear, float scale, float* display) {
   float rgb[3];
   for (int c = 0; c < 3; ++c) {
     const float v = linear[c] * scale;
-    rgb[c] = std::isfinite(v) && v > 0.0f ? v : 0.0f;  // NaN and -inf to 0; +inf handled below
-    if (v == std::numeric_limits<float>::infinity()) rgb[c] = std::numeric_limits<float>::max();
+    // Negative, NaN and -inf to 0; +inf to the largest float.
+    rgb[c] = v > 0.0f ? std::min(v, std::numeric_limits<float>::max()) : 0.0f;
   }
   const float m = std::max({rgb[0], rgb[1], rgb[2]});
   float gain = 1.0f;
   if (m > kShoulderKnee) {
     const double x = (double(m) - kShoulderKnee) / (1.0 - kShoulderKnee);
     const double shoulder = kShoulderKnee + (1.0 - kShoulderKnee) * (x / (1.0 + x));
-    gain = float(shoulder / double(m));
+    const double g = shoulder / double(m);
+    if (g < double(std::numeric_limits<float>::min())) {
+      // m above about 3e37: the gain is no normal float, and where a thread flushes denormals
+      // to zero (oneTBB's tasks here do: docs/performance.md, "Hole fill") the pixel turned
+      // black instead of white; in double it does not depend on the thread.
+      for (int c = 0; c < 3; ++c) display[c] = std::clamp(float(double(rgb[c]) * g), 0.0f, 1.0f);
+      return;
+    }
+    gain = float(g);
   }
   for (int c = 0; c < 3; ++c) display[c] = std::clamp(rgb[c] * gain, 0.0f, 1.0f);
+}
+
+}  // namespace
+
+void tone_map(const float* linear, float exposure_stops, float* display) {
+  tone_map_scaled(linear, std::exp2(exposure_stops), display);
+}
+
+void tone_map_pixels(const float* linear, size_t pixels, float exposure_stops, float* display) {
+  const float scale = std::exp2(exposure_stops);
+  for (size_t i = 0; i < pixels; ++i) tone_map_scaled(linear + 3 * i, scale, display + 3 * i);
 }
 
 void inverse_tone_map(const float* display, float* linear) {

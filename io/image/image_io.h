@@ -3,6 +3,7 @@
 // after the display tone map below (docs/scene-format.md, "Image output").
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <stdexcept>
 
@@ -25,6 +26,8 @@ struct ImageIOError : std::runtime_error {
 // The result is in [0, 1]; sRGB encoding follows.
 constexpr float kShoulderKnee = 0.8f;
 void tone_map(const float* linear, float exposure_stops, float* display);
+// tone_map of `pixels` consecutive RGB pixels, the same bits (the exposure's factor found once).
+void tone_map_pixels(const float* linear, size_t pixels, float exposure_stops, float* display);
 // Its inverse at exposure 0: linear RGB whose tone map is `display` (in [0, 1]); a largest channel
 // of 1 maps to a large finite value. Writing such an image to an 8-bit file gives back the display
 // bytes (the viewer's window screenshots).

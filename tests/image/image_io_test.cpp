@@ -1,8 +1,14 @@
 #include "image_io.h"
 
 #include <gtest/gtest.h>
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -89,6 +95,31 @@ TEST(ToneMap, KnownValues) {
   EXPECT_NEAR(map({INFINITY, 0.0f, 0.0f}, 0.0f).x, 1.0f, 1e-6f);
   // Negative and NaN channels become 0.
   EXPECT_EQ(map({-2.0f, NAN, 0.5f}, 0.0f), glm::vec3(0.0f, 0.0f, 0.5f));
+}
+
+// The largest finite and infinite colours map to white whether or not the thread flushes
+// denormals to zero (oneTBB's tasks here do): their shoulder gain is below the least normal
+// float. tone_map_pixels gives tone_map's bits.
+TEST(ToneMap, HugeColoursAreWhiteOnAThreadThatFlushesDenormals) {
+  const float max = std::numeric_limits<float>::max();
+  const float in[] = {max, 0.5f, 0.0f, INFINITY, INFINITY, 1e38f, 0.3f, 2.0f, NAN};
+  auto check = [&](const char* mode) {
+    float one[9], run[9];
+    for (int p = 0; p < 3; ++p) tone_map(in + 3 * p, 0.0f, one + 3 * p);
+    tone_map_pixels(in, 3, 0.0f, run);
+    EXPECT_EQ(one[0], 1.0f) << mode;
+    EXPECT_EQ(one[3], 1.0f) << mode;
+    EXPECT_EQ(one[4], 1.0f) << mode;
+    EXPECT_NEAR(one[5], 1e38f / max, 1e-6f) << mode;
+    for (int c = 0; c < 9; ++c) EXPECT_EQ(std::bit_cast<uint32_t>(run[c]), std::bit_cast<uint32_t>(one[c])) << mode << " " << c;
+  };
+  check("denormals kept");
+#if defined(__SSE__)
+  const unsigned int csr = _mm_getcsr();
+  _mm_setcsr(csr | 0x8040u);  // FTZ and DAZ
+  check("denormals flushed");
+  _mm_setcsr(csr);
+#endif
 }
 
 TEST(ImageIO, ExposureAppliesToPngOnlyNotExr) {
