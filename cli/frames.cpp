@@ -158,6 +158,7 @@ int run_render_frames(const RenderOptions& options) {
   settings.soft_shadow_edges = options.soft_shadow_edges;
   settings.sparse_blend = options.sparse_blend;
   settings.trace_ahead = options.trace_ahead;
+  settings.rest_sample_budget = options.rest_sample_budget;
   if (options.sparse_occlusion_radius) settings.cache.sparse_occlusion_radius = *options.sparse_occlusion_radius;
   if (options.new_occluder_radius) settings.cache.new_occluder_radius = *options.new_occluder_radius;
   if (options.predict_share) settings.predict_share = *options.predict_share;

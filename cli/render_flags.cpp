@@ -119,6 +119,12 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
     app.add_option("--sample-budget", render.sample_budget, "Fraction of the pixels shaded per frame")
         ->check(kFinite & CLI::Range(0.0, 1.0))
         ->capture_default_str();
+    app.add_option("--rest-sample-budget", render.rest_sample_budget,
+                   "Asynchronous loop at rest (camera, objects and lights still): the budget grows up to this "
+                   "fraction while the shader finishes each frame's requests, so an idle shader refines the "
+                   "image sooner; at most --sample-budget: off (docs/render.md, \"Idle shading at rest\")")
+        ->check(kFinite & CLI::Range(0.0, 1.0))
+        ->capture_default_str();
     app.add_option("--camera-path", render.camera_path, "Camera keys per frame (docs/camera-path.md)");
     app.add_flag("--soft-shadow-edges", render.soft_shadow_edges,
                  "epi mode: also cut interpolation at area lights' umbral and penumbral edges, as the paper does "

@@ -10,6 +10,7 @@
 #include <glm/glm.hpp>
 
 #include "image/resource_limit.h"
+#include "render/renderer.h"
 #include "shade/shader.h"
 
 namespace CLI {
@@ -56,6 +57,7 @@ struct RenderOptions {
   std::string frames_out;      // printf-style pattern for every frame's image, e.g. out/f%04d.png
   std::string save_epi;        // mode epi: the last frame's EPI snapshot (io/snapshot), empty: none
   bool trace_ahead = true;  // FrameSettings::trace_ahead (render.md, "Requests traced ahead")
+  double rest_sample_budget = render::FrameSettings{}.rest_sample_budget;  // (render.md, "Idle shading at rest")
   bool sparse_blend = true;        // epi mode: sparse regions smoothed (render.md, "Sparse regions")
   bool soft_shadow_edges = false;  // epi mode: the paper's umbral and penumbral edges (render.md, "Soft-shadow edges")
   // epi mode: how far a lone nearer point hides what lies behind it (PointCacheSettings; render.md,

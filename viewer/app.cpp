@@ -140,6 +140,7 @@ class Viewer {
     s.frame.soft_shadow_edges = options.render.soft_shadow_edges;
     s.frame.sparse_blend = options.render.sparse_blend;
     s.frame.trace_ahead = options.render.trace_ahead;
+    s.frame.rest_sample_budget = options.render.rest_sample_budget;
     if (options.render.sparse_occlusion_radius) s.frame.cache.sparse_occlusion_radius = *options.render.sparse_occlusion_radius;
     if (options.render.new_occluder_radius) s.frame.cache.new_occluder_radius = *options.render.new_occluder_radius;
     s.shader = cli::shader_settings(options.render);
@@ -883,6 +884,10 @@ void Viewer::draw_panel() {
   }
   float budget = float(s.frame.sample_budget);
   if (ImGui::SliderFloat("budget", &budget, 0.001f, 0.25f, "%.3f", ImGuiSliderFlags_Logarithmic)) s.frame.sample_budget = budget;
+  float rest_budget = float(s.frame.rest_sample_budget);
+  if (ImGui::SliderFloat("budget at rest", &rest_budget, 0.001f, 0.25f, "%.3f", ImGuiSliderFlags_Logarithmic))
+    s.frame.rest_sample_budget = rest_budget;
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("while nothing moves, the budget grows up to this as long as the shader keeps up");
   ImGui::Checkbox("anti-aliasing", &s.frame.antialias);
   ImGui::SameLine();
   ImGui::Checkbox("complex filter", &s.frame.complex_filter);

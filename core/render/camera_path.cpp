@@ -13,11 +13,20 @@ namespace epi::render {
 
 namespace {
 
+// glm::mix, except that a component equal at both keys is that value exactly: a(1 - t) + a t
+// may differ from a in its last bit, and a held view or placement (two equal keys) must not
+// move (the renderer's rest, FrameSettings::rest_sample_budget; a placement that moves starts a
+// new epoch of shading).
+glm::vec3 mix_keys(const glm::vec3& a, const glm::vec3& b, float t) {
+  const glm::vec3 m = glm::mix(a, b, t);
+  return {a.x == b.x ? a.x : m.x, a.y == b.y ? a.y : m.y, a.z == b.z ? a.z : m.z};
+}
+
 Camera lerp(const Camera& a, const Camera& b, float t) {
   Camera c = a;
-  c.eye = glm::mix(a.eye, b.eye, t);
-  c.target = glm::mix(a.target, b.target, t);
-  c.up = glm::mix(a.up, b.up, t);
+  c.eye = mix_keys(a.eye, b.eye, t);
+  c.target = mix_keys(a.target, b.target, t);
+  c.up = mix_keys(a.up, b.up, t);
   c.yfov_degrees = a.yfov_degrees + (b.yfov_degrees - a.yfov_degrees) * t;
   return c;
 }
@@ -48,7 +57,7 @@ std::vector<glm::mat4> CameraPath::object_transforms_at(const Scene& scene, doub
     size_t last = first;
     while (last < objects.size() && objects[last].object == objects[first].object) ++last;
     const auto [k, t] = locate(objects, first, last, frame);
-    const glm::vec3 offset = t > 0.0f ? glm::mix(objects[k].translate, objects[k + 1].translate, t) : objects[k].translate;
+    const glm::vec3 offset = t > 0.0f ? mix_keys(objects[k].translate, objects[k + 1].translate, t) : objects[k].translate;
     glm::mat4& m = out[objects[first].object];
     m = glm::translate(glm::mat4(1.0f), offset) * m;
     first = last;
@@ -63,7 +72,7 @@ std::vector<glm::vec3> CameraPath::light_positions_at(const Scene& scene, double
     size_t last = first;
     while (last < lights.size() && lights[last].light == lights[first].light) ++last;
     const auto [k, t] = locate(lights, first, last, frame);
-    out[lights[first].light] += t > 0.0f ? glm::mix(lights[k].translate, lights[k + 1].translate, t) : lights[k].translate;
+    out[lights[first].light] += t > 0.0f ? mix_keys(lights[k].translate, lights[k + 1].translate, t) : lights[k].translate;
     first = last;
   }
   return out;

@@ -83,7 +83,7 @@ FrameRenderer::~FrameRenderer() { async_.reset(); }
 
 size_t FrameRenderer::budget() const {
   const double pixels = double(settings_.width) * double(settings_.height);
-  return size_t(std::max(1.0, std::round(settings_.sample_budget * pixels)));
+  return size_t(std::max(1.0, std::round(settings_.sample_budget * budget_scale_ * pixels)));
 }
 
 void FrameRenderer::apply_placement(std::span<const glm::mat4> object_to_world, std::span<const glm::vec3> light_positions) {
@@ -372,7 +372,9 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
     stats_.ms[FrameStage::shade] = ms_since(tsh);
     sync_shots_.clear();
   }
+  const uint16_t epoch_before = placement_->epoch;
   apply_placement(object_to_world, light_positions);
+  const bool at_rest = previous_camera_ && same_camera(*previous_camera_, camera) && placement_->epoch == epoch_before;
   const ViewFrame frame(make_view(camera, settings_.width, settings_.height));
 
   // New shading results into the cache.
@@ -458,8 +460,13 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   // Async: the next requests from this frame's priority; stale ones are dropped.
   if (async_) {
     const auto ts = Clock::now();
-    std::vector<NewShot> shots = choose_requests(frame, reconstruction_.priority, frame_);
     shader_behind_ = async_->pending_requests() > 0;  // before the last requests are dropped
+    // At rest the budget follows what the shader finishes in a frame, as long as integrating the
+    // results stays a small share of the frame (FrameSettings::rest_sample_budget).
+    const double most = settings_.sample_budget > 0.0 ? std::max(1.0, settings_.rest_sample_budget / settings_.sample_budget) : 1.0;
+    const bool grow = !shader_behind_ && stats_.integrate_ms < settings_.rest_integrate_share * ms_since(start);
+    budget_scale_ = !at_rest ? 1.0 : grow ? std::min(most, budget_scale_ * 1.5) : std::max(1.0, budget_scale_ / 1.5);
+    std::vector<NewShot> shots = choose_requests(frame, reconstruction_.priority, frame_);
     async_->cancel_pending();
     // Main and predicted requests interleaved in proportion, in rounds of a quarter slice.
     std::vector<size_t> sizes;

@@ -36,6 +36,14 @@ struct FrameSettings {
   RenderMode mode = RenderMode::epi;
   int width = 512, height = 512;
   double sample_budget = 0.02;  // fraction of the pixels requested per frame
+  // Asynchronous loop at rest (camera, objects and lights as in the last frame): the budget grows
+  // 1.5x a frame while the shader finishes every request before the next frame chooses (it idles
+  // otherwise) and integrating the results takes less than rest_integrate_share of the frame (the
+  // loop stays responsive for the next move), up to this fraction; it shrinks 1.5x a frame
+  // otherwise; any move starts again from sample_budget (docs/render.md, "Idle shading at rest").
+  // At most sample_budget: off. Sync mode shades sample_budget exactly.
+  double rest_sample_budget = 0.08;
+  double rest_integrate_share = 0.25;
   bool sync = false;            // shade the budget inside each frame (deterministic for a seed)
   // With sync: the requests a frame chooses are made for its own view and shaded at the start of
   // the next frame, with the placement they were made for (the asynchronous loop's order when the
@@ -196,6 +204,7 @@ class FrameRenderer {
   std::unique_ptr<AsyncShader> async_;
   int cores_ = 1, shader_threads_ = 0;
   bool shader_behind_ = false;  // the last frame's requests were not all shaded by its end
+  double budget_scale_ = 1.0;   // of sample_budget, grown at rest (FrameSettings::rest_sample_budget)
   std::unique_ptr<tbb::task_arena> loop_arena_;  // the loop's cores while the shader is behind (adaptive)
   PointCache cache_;
   EpiImage epi_;

@@ -42,6 +42,32 @@ TEST(CameraPath, KeysInterpolateLinearlyAndHoldAtTheEnds) {
   EXPECT_FLOAT_EQ(path.object_transforms_at(scene, 50)[1][3].x, 2.0f);
 }
 
+// A hold (two equal keys, as the README's orbit ends with) gives the key's camera and placement
+// exactly at every frame between, so the renderer sees a view at rest (render.md, "Idle shading
+// at rest") and no object move (a move starts a new epoch of shading); glm::mix's
+// a (1 - t) + a t missed the key's value in its last bit on these keys.
+TEST(CameraPath, HeldKeysGiveTheKeyExactly) {
+  const Scene scene = two_objects();
+  const CameraPath path = parse_camera_path(
+      "camera 0 eye 0.0535 0.2730 -0.7764 target 0.278 0.273 0.28\n"
+      "camera 90 eye 0.2780 0.2730 -0.8000 target 0.278 0.273 0.28 fov 39.3\n"
+      "camera 330 eye 0.2780 0.2730 -0.8000 target 0.278 0.273 0.28 fov 39.3\n"
+      "object 0 ball translate 0.1 0.37 -0.29\n"
+      "object 200 ball translate 0.1 0.37 -0.29\n",
+      "p.txt", scene);
+  const Camera held = path.camera_at(90);
+  const glm::mat4 placed = path.object_transforms_at(scene, 0)[1];
+  for (int f = 91; f < 330; ++f) {
+    const Camera c = path.camera_at(f);
+    ASSERT_TRUE(c.eye == held.eye && c.target == held.target && c.up == held.up && c.yfov_degrees == held.yfov_degrees)
+        << "frame " << f;
+  }
+  for (int f = 1; f < 200; ++f) ASSERT_EQ(path.object_transforms_at(scene, f)[1], placed) << "frame " << f;
+  // Components that differ still interpolate (eye.x), those equal stay (eye.y).
+  EXPECT_FLOAT_EQ(path.camera_at(45).eye.x, 0.5f * (0.0535f + 0.278f));
+  EXPECT_EQ(path.camera_at(45).eye.y, 0.2730f);
+}
+
 TEST(CameraPath, ErrorsNameTheFileAndLine) {
   const Scene scene = two_objects();
   const char* bad[] = {

@@ -599,6 +599,71 @@ TEST(FrameLoop, AdaptiveSplitGivesTheLoopOneCoreWhileTheShaderIsBehind) {
   }
 }
 
+// Idle shading at rest (docs/render.md): with the view still and the shader done with every
+// request, each frame asks for half as many again as the last, up to rest_sample_budget; a
+// moved camera or object starts again from sample_budget; a shader that falls behind at rest
+// gets fewer; with rest_sample_budget at sample_budget, or no share of the frame allowed for
+// integrating results, nothing grows; sync mode never grows.
+TEST(FrameLoop, AtRestTheBudgetGrowsWhileTheShaderKeepsUp) {
+  Fixture f;
+  FrameSettings s = small_settings(RenderMode::epi, false);
+  s.sample_budget = 0.02, s.rest_sample_budget = 0.08;  // 82 and 328 requests of 4096 pixels
+  s.rest_integrate_share = 1.0;  // integrating never takes the whole frame: growth by the shader alone
+  FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
+  Camera camera = f.scene.cameras[0];
+  std::vector<size_t> asked;
+  auto frame = [&](const Camera& c, std::span<const glm::mat4> objects = {}) {
+    renderer.render(c, objects);
+    asked.push_back(renderer.stats().requested);
+    wait_for_shader(renderer);
+  };
+  for (int k = 0; k < 6; ++k) frame(camera);
+  EXPECT_EQ(asked, (std::vector<size_t>{82, 123, 184, 276, 328, 328}));
+  camera.eye.x += 0.05f;
+  frame(camera);
+  EXPECT_EQ(asked.back(), 82u) << "a moved camera starts again from the budget";
+  frame(camera);
+  EXPECT_EQ(asked.back(), 123u);
+  const std::vector<glm::mat4> moved = {glm::mat4(1.0f), glm::translate(glm::mat4(1.0f), glm::vec3(0.1f, 0.0f, 0.0f))};
+  frame(camera, moved);
+  EXPECT_EQ(asked.back(), 82u) << "a moved object starts again from the budget";
+
+  // A shader that falls behind at rest: the budget shrinks back.
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<bool> hold{false};
+  FrameSettings held = s;
+  held.before_shading_slice = [&] {
+    if (hold) released.wait();
+  };
+  FrameRenderer behind(f.scene, f.ray_scene, f.shader, held);
+  std::vector<size_t> behind_asked;
+  for (int k = 0; k < 8; ++k) {
+    if (k == 3) hold = true;  // from the fourth frame's requests on, nothing is shaded
+    behind.render(camera);
+    behind_asked.push_back(behind.stats().requested);
+    if (k < 3) wait_for_shader(behind);
+  }
+  release.set_value();
+  wait_for_shader(behind);
+  EXPECT_EQ(behind_asked, (std::vector<size_t>{82, 123, 184, 276, 184, 123, 82, 82}));
+
+  for (const int off_by : {0, 1, 2}) {  // rest budget at the budget, no share for integrating, sync
+    const bool sync = off_by == 2;
+    FrameSettings off = s;
+    off.sync = sync;
+    if (off_by == 0) off.rest_sample_budget = off.sample_budget;
+    if (off_by == 1) off.rest_integrate_share = 0.0;
+    FrameRenderer flat(f.scene, f.ray_scene, f.shader, off);
+    for (int k = 0; k < 4; ++k) {
+      flat.render(camera);
+      if (!sync) wait_for_shader(flat);
+      EXPECT_EQ(flat.stats().requested, 82u) << "case " << off_by << ", frame " << k;
+      if (sync) EXPECT_EQ(flat.stats().samples, 82u) << "sync, frame " << k;
+    }
+  }
+}
+
 // Async shading while the box moves every frame: results of every frame are integrated (not
 // dropped because something moved), each drawn point lies where ray casting the current placement
 // finds its surface, and no box point is drawn where the box no longer is.
