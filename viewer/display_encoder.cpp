@@ -23,8 +23,9 @@ namespace hn = hwy::HWY_NAMESPACE;
 
 // A vector of pixels at a time. The tone map in lanes: below the shoulder's knee the gain is 1, so
 // the channels cleaned of negatives, NaNs and infinities are the display values; a pixel above
-// it goes through tone_map_pixels (the shoulder in double), as does the tail. The level's index as DisplayEncoder::pixel computes it: a product, then a
-// sum (this file is compiled without contraction), truncated to int32.
+// it goes through tone_map_pixels (the shoulder in double), as does the tail. The level's index
+// as display_level computes it: a product, then a sum (this file is compiled without
+// contraction), truncated to int32.
 void EncodeDisplayPixels(const float* HWY_RESTRICT linear, size_t pixels, float exposure_stops,
                          const uint32_t* HWY_RESTRICT levels, uint32_t* HWY_RESTRICT rgba) {
   const hn::ScalableTag<float> d;
@@ -59,8 +60,7 @@ void EncodeDisplayPixels(const float* HWY_RESTRICT linear, size_t pixels, float 
   for (; i < pixels; ++i) {
     float one[3];
     tone_map_pixels(linear + 3 * i, 1, exposure_stops, one);
-    auto level1 = [&](float v) { return levels[uint32_t(int32_t(v * float(kDisplayLevels - 1) + 0.5f))]; };
-    rgba[i] = level1(one[0]) | level1(one[1]) << 8 | level1(one[2]) << 16 | 0xff000000u;
+    rgba[i] = display_level(levels, one[0]) | display_level(levels, one[1]) << 8 | display_level(levels, one[2]) << 16 | 0xff000000u;
   }
 }
 

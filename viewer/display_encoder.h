@@ -15,6 +15,12 @@ namespace epi::viewer {
 // Entries of the sRGB table: display values in [0, 1] in steps of 1/65536.
 inline constexpr size_t kDisplayLevels = 65537;
 
+// The sRGB level of a tone-mapped channel v in [0, 1]: the table entry nearest v (the index an
+// int32 conversion: a float to 64-bit unsigned one is a branchy sequence on x86-64).
+inline uint32_t display_level(const uint32_t* levels, float v) {
+  return levels[uint32_t(int32_t(v * float(kDisplayLevels - 1) + 0.5f))];
+}
+
 // RGBA8 of `pixels` linear RGB pixels: io/image's tone_map at `exposure_stops`, then the sRGB
 // level of each channel from `levels` (kDisplayLevels entries), alpha 255. Highway, dispatched
 // to the best target; every target gives the bits of tone_map and the table a pixel at a time.
@@ -30,9 +36,8 @@ class DisplayEncoder {
 
   // One display pixel from its tone-mapped channels (each in [0, 1]).
   uint32_t pixel(const float* display) const {
-    // (int32, not size_t: a float to 64-bit unsigned conversion is a branchy sequence on x86-64)
-    auto level = [&](float v) { return levels_[uint32_t(int32_t(v * float(kDisplayLevels - 1) + 0.5f))]; };
-    return level(display[0]) | level(display[1]) << 8 | level(display[2]) << 16 | 0xff000000u;
+    const uint32_t* l = levels_.data();
+    return display_level(l, display[0]) | display_level(l, display[1]) << 8 | display_level(l, display[2]) << 16 | 0xff000000u;
   }
 
   // The whole image, in parallel runs (oneTBB).
