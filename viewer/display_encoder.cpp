@@ -80,8 +80,7 @@ void encode_display_pixels(const float* linear, size_t pixels, float exposure_st
 DisplayEncoder::DisplayEncoder() : levels_(kDisplayLevels) {
   for (size_t i = 0; i < levels_.size(); ++i) {
     const float v = float(i) / float(levels_.size() - 1);
-    const float s = v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-    levels_[i] = uint32_t(std::lround(std::clamp(s, 0.0f, 1.0f) * 255.0f));
+    levels_[i] = uint32_t(std::lround(std::clamp(linear_to_srgb(v), 0.0f, 1.0f) * 255.0f));
   }
 }
 
