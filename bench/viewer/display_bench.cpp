@@ -1,8 +1,8 @@
 // The viewer's display encoding (viewer/display_encoder.h): a linear frame to RGBA8 on the frame
-// thread, every frame. BM_DisplayEncode is the encoder (Highway, the best target); 
+// thread, every frame. BM_DisplayEncode is the encoder (Highway, the best target);
 // BM_DisplayEncodePerPixel the same output made a pixel at a time through io/image's tone_map
-// (its exposure factor found for each pixel) and the table, as the encoder worked until
-// 2026-11-29: the baseline of the same run.
+// (its exposure factor found for each pixel) and the table, the shape of the encoder until
+// 2026-11-29 (with today's tone map and table index): the baseline of the same run.
 // Arguments: width, height, threads. Counter: Mpixel_per_s (wall).
 #include <benchmark/benchmark.h>
 
