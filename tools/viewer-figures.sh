@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The figures of docs/viewer.md, made by the viewer itself under a virtual X server:
 #   1. one screenshot per stage view and one of the whole window (docs/images/viewer/),
-#   2. the --benchmark figures at 512x512 and 1920x1080, written into docs/viewer.md between the
+#   2. the --benchmark figures at 512x512 and 1920x1080 (render scales 1, 0.75 and 0.5), written into docs/viewer.md between the
 #      "viewer-benchmark" markers (with the machine and its load).
 # Usage: tools/viewer-figures.sh [--benchmark-only] [BUILD_DIR]   (default: build; needs xvfb-run)
 set -euo pipefail
@@ -55,17 +55,18 @@ fi
 
 # 2. Benchmarks: --benchmark orbits the camera a little every window frame.
 machine="$(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), load $(cut -d' ' -f1-3 /proc/loadavg)"
-table="| size | window fps | redraws a second | frame loop fps (median ms) | display: texture upload from the frame's PBO (median / max ms) | with glFinish (median / max ms) | input to screen (median / p90 ms) |"$'\n'"|---|---|---|---|---|---|---|"
-for size in 512x512 1920x1080; do
-  out=$(xvfb-run -a -s "-screen 0 1920x1200x24" "$viewer" "$scene" --size "$size" --benchmark 300 --ui-fps 60)
+table="| size | render scale | window fps | redraws a second | frame loop fps (median ms) | display: texture upload from the frame's PBO (median / max ms) | with glFinish (median / max ms) | input to screen (median / p90 ms) |"$'\n'"|---|---|---|---|---|---|---|---|"
+for run in "512x512 1" "1920x1080 1" "1920x1080 0.75" "1920x1080 0.5"; do
+  read -r size scale <<<"$run"
+  out=$(xvfb-run -a -s "-screen 0 1920x1200x24" "$viewer" "$scene" --size "$size" --render-scale "$scale" --benchmark 300 --ui-fps 60)
   wfps=$(sed -n 's/^BENCHMARK_WINDOW_FPS \([0-9.]*\).*/\1/p' <<<"$out")
   redraws=$(sed -n 's/^BENCHMARK_REDRAWS \([0-9.]*\).*/\1/p' <<<"$out")
   rfps=$(sed -n 's/^BENCHMARK_RENDER_FPS \([0-9.]*\).*frame-loop ms: median \([0-9.]*\).*/\1 (\2)/p' <<<"$out")
   disp=$(sed -n 's/^BENCHMARK_DISPLAY_MS median \([0-9.]*\), max \([0-9.]*\) .*with glFinish median \([0-9.]*\), max \([0-9.]*\)/\1 \/ \2|\3 \/ \4/p' <<<"$out")
   lat=$(sed -n 's/^BENCHMARK_LATENCY_MS median \([0-9.]*\), p90 \([0-9.]*\).*/\1 \/ \2/p' <<<"$out")
-  table+=$'\n'"| $size | $wfps | $redraws | $rfps | ${disp%%|*} | ${disp##*|} | $lat |"
+  table+=$'\n'"| $size | $scale | $wfps | $redraws | $rfps | ${disp%%|*} | ${disp##*|} | $lat |"
 done
-block="<!-- viewer-benchmark:begin (tools/viewer-figures.sh writes this) -->"$'\n'"Measured $(date -u +%Y-%m-%d) on $machine; \`epi-viewer scenes/cornell_box.gltf --size WxH --benchmark 300\` under \`xvfb-run\` (Mesa llvmpipe), epi mode, direct shader, budget 0.02."$'\n\n'"$table"$'\n'"<!-- viewer-benchmark:end -->"
+block="<!-- viewer-benchmark:begin (tools/viewer-figures.sh writes this) -->"$'\n'"Measured $(date -u +%Y-%m-%d) on $machine; \`epi-viewer scenes/cornell_box.gltf --size WxH --render-scale F --benchmark 300\` under \`xvfb-run\` (Mesa llvmpipe), epi mode, direct shader, budget 0.02."$'\n\n'"$table"$'\n'"<!-- viewer-benchmark:end -->"
 BLOCK="$block" /usr/bin/python3 - "$root/docs/viewer.md" <<'PY'
 import os, re, sys
 path = sys.argv[1]

@@ -49,6 +49,9 @@ using render::SessionInput;
 using render::SessionMode;
 using render::StageView;
 
+// The renderer's extent for a framebuffer extent at a render scale (--render-scale): at least a pixel.
+int render_extent(int framebuffer, double scale) { return std::max(1, int(std::lround(double(framebuffer) * scale))); }
+
 double ms_between(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double, std::milli>(b - a).count(); }
 
 std::string glfw_error_text;
@@ -155,6 +158,7 @@ class Viewer {
       };
     }
     encoder_.set_exposure(options.render.exposure);
+    render_scale_ = options.render_scale;
     scene_radius_ = scene.world_bounds().empty() ? 1.0f : 0.5f * glm::length(scene.world_bounds().max - scene.world_bounds().min);
     if (path_) playing_ = true, input_.path = path_, input_.path_start = 0;
   }
@@ -250,6 +254,7 @@ class Viewer {
   int window_width_ = 0, window_height_ = 0, fb_width_ = 0, fb_height_ = 0;
   Clock::time_point resized_at_{};
   bool resize_pending_ = false;
+  double render_scale_ = 1.0;  // the renderer's size over the framebuffer's (--render-scale, the panel)
 
   // path playing and recording
   bool playing_ = false;
@@ -337,7 +342,8 @@ void Viewer::open_window() {
   ring_ = std::make_unique<PixelRing>(glfwExtensionSupported("GL_ARB_buffer_storage"));
   glfwGetWindowSize(window_, &window_width_, &window_height_);
   glfwGetFramebufferSize(window_, &fb_width_, &fb_height_);
-  input_.settings.frame.width = fb_width_, input_.settings.frame.height = fb_height_;
+  input_.settings.frame.width = render_extent(fb_width_, render_scale_);
+  input_.settings.frame.height = render_extent(fb_height_, render_scale_);
 }
 
 void Viewer::close_window() {
@@ -909,6 +915,12 @@ void Viewer::draw_panel() {
   if (ImGui::InputInt("threads (0: all)", &threads) && threads >= 0 && threads <= 1024) s.threads = threads;
   float max_fps = float(s.max_fps);
   if (ImGui::SliderFloat("frame cap", &max_fps, 0.0f, 240.0f, max_fps == 0.0f ? "none" : "%.0f fps")) s.max_fps = max_fps;
+  float render_scale = float(render_scale_);
+  if (ImGui::SliderFloat("render scale", &render_scale, 0.25f, 1.0f, "%.2f")) {
+    render_scale_ = render_scale, resized_at_ = Clock::now(), resize_pending_ = true;  // applied as a resize is
+  }
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("render this share of the window's width and height, scaled up to it: 0.5 renders a quarter of the pixels");
   float exposure = encoder_.exposure();
   if (ImGui::SliderFloat("exposure", &exposure, -8.0f, 8.0f, "%.1f stops")) encoder_.set_exposure(exposure);
   if (ImGui::SliderFloat("fov", &input_.camera.yfov_degrees, 5.0f, 120.0f, "%.1f deg")) changed_by_user();
@@ -1021,13 +1033,14 @@ int Viewer::run() {
     const double dt = std::chrono::duration<double>(now - last).count();
     last = now;
 
-    // The renderer follows the framebuffer size, once it has stayed the same for 150 ms.
+    // The renderer follows the framebuffer size (times the render scale), once it has stayed the
+    // same for 150 ms: a new size starts an empty point cache.
     int fw, fh;
     glfwGetFramebufferSize(window_, &fw, &fh);
     glfwGetWindowSize(window_, &window_width_, &window_height_);
     if (fw != fb_width_ || fh != fb_height_) fb_width_ = fw, fb_height_ = fh, resized_at_ = now, resize_pending_ = true;
     if (resize_pending_ && ms_between(resized_at_, now) > 150.0 && fw > 0 && fh > 0) {
-      input_.settings.frame.width = fw, input_.settings.frame.height = fh;
+      input_.settings.frame.width = render_extent(fw, render_scale_), input_.settings.frame.height = render_extent(fh, render_scale_);
       resize_pending_ = false;
     }
 
@@ -1087,8 +1100,8 @@ int Viewer::run() {
     const Summary upf = summarize(tail(upload_finish_ms_, benchmark_first_upload));
     const Summary lat = summarize(tail(latency_ms_, benchmark_first_latency));
     const double frames = double(frame_.number - benchmark_first_frame);
-    std::printf("epi-viewer benchmark: %s, %dx%d, %s, %s shader, %zu window frames over %.2f s\n", options_.render.scene.c_str(),
-                frame_.width, frame_.height, render::to_string(frame_.settings.mode),
+    std::printf("epi-viewer benchmark: %s, %dx%d (window %dx%d), %s, %s shader, %zu window frames over %.2f s\n",
+                options_.render.scene.c_str(), frame_.width, frame_.height, fb_width_, fb_height_, render::to_string(frame_.settings.mode),
                 kShaderNames[int(frame_.settings.shader.kind)], ui.n, seconds);
     std::printf("BENCHMARK_WINDOW_FPS %.1f (frame ms: median %.2f, min %.2f, max %.2f, sigma %.2f)\n", ui.mean > 0 ? 1000.0 / ui.mean : 0.0,
                 ui.median, ui.min, ui.max, ui.sigma);

@@ -16,6 +16,7 @@ struct ViewerOptions {
   std::string record;         // --record FILE: the camera path recorded with K goes here
   double ui_fps = 60.0;       // window frame cap (vsync caps too, where the display has it)
   double max_fps = 0.0;       // frame-loop cap (0: as fast as it goes)
+  double render_scale = 1.0;  // --render-scale F: the renderer's size as a share of the window's framebuffer
   bool hold_shader = false;   // tests: the shader blocks until exit (the window must not stall)
 };
 

@@ -71,12 +71,14 @@ class FrameTexture {
     glBindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
     mapped_ = nullptr;
   }
-  // Draws the texture over the window, y down (the image's first row at the top).
+  // Draws the texture over the window, y down (the image's first row at the top): pixel for
+  // pixel, or scaled up bilinearly where the renderer renders fewer pixels (--render-scale).
   void draw(int window_width, int window_height) const {
     if (width_ == 0) return;
     glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
-    glBlitFramebuffer(0, 0, width_, height_, 0, window_height, window_width, 0, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    const bool same_size = width_ == window_width && height_ == window_height;
+    glBlitFramebuffer(0, 0, width_, height_, 0, window_height, window_width, 0, GL_COLOR_BUFFER_BIT, same_size ? GL_NEAREST : GL_LINEAR);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
   }
   int width() const { return width_; }

@@ -23,8 +23,15 @@ int main(int argc, char** argv) {
   app.add_option("--benchmark", options.benchmark, "Run N window frames orbiting the camera, print frame-time statistics, exit")
       ->check(CLI::Range(1, 1000000));
   app.add_option("--record", options.record, "Camera path file that K (record) writes (docs/camera-path.md)");
-  app.add_option("--ui-fps", options.ui_fps, "Window frame cap")->check(CLI::Range(1.0, 1000.0))->capture_default_str();
-  app.add_option("--max-fps", options.max_fps, "Frame-loop cap (0: as fast as it goes)")->check(CLI::Range(0.0, 1000.0));
+  using epi::cli::kFinite;
+  app.add_option("--ui-fps", options.ui_fps, "Window frame cap")->check(kFinite & CLI::Range(1.0, 1000.0))->capture_default_str();
+  app.add_option("--max-fps", options.max_fps, "Frame-loop cap (0: as fast as it goes)")->check(kFinite & CLI::Range(0.0, 1000.0));
+  app.add_option("--render-scale", options.render_scale,
+                 "Render F times the window's size in each direction and scale the frames up to the window (bilinear): 0.5 "
+                 "renders a quarter of the pixels, about three times the frames a second at 1920x1080 (docs/viewer.md, "
+                 "\"Render scale\"). Screenshots are the rendered size")
+      ->check(kFinite & CLI::Range(0.1, 1.0))
+      ->capture_default_str();
   app.add_flag("--test-hold-shader", options.hold_shader, "Tests: the shader never returns a sample until exit")
       ->group("");  // hidden
 

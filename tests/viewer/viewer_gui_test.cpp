@@ -7,6 +7,7 @@
 // parallel ctest runs never collide. Without Xvfb the window tests are skipped with a message.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <csignal>
@@ -381,6 +382,50 @@ TEST(ViewerWindow, TheRendererFollowsTheWindowSize) {
   EXPECT_EQ(b.height, 80);
 }
 
+// --render-scale 0.5: the renderer renders half the window's width and height (screenshots are that
+// size, also after a resize), and the window shows the frame scaled up bilinearly: every window
+// pixel lies between the four rendered pixels around its centre, and many strictly between
+// (a nearest-neighbour blow-up would repeat one of them).
+TEST(ViewerWindow, RenderScaleRendersFewerPixelsAndScalesThemUp) {
+  REQUIRE_DISPLAY();
+  const fs::path dir = temp_dir("render-scale");
+  write_file(dir / "s.txt", "wait 20\nkey TAB\nwait 5\nscreenshot " + (dir / "image.png").string() + "\nwindow-screenshot " +
+                                (dir / "window.png").string() + "\n");
+  const ProgramRun v = viewer(kCornell + " --size 160x120 --render-scale 0.5 --sync --frames 6 --script " + (dir / "s.txt").string());
+  ASSERT_EQ(v.exit_code, 0) << v.out;
+  const epi::RgbImage image = epi::read_image(dir / "image.png"), window = epi::read_image(dir / "window.png");
+  ASSERT_EQ(image.width, 80);
+  ASSERT_EQ(image.height, 60);
+  ASSERT_EQ(window.width, 160);
+  ASSERT_EQ(window.height, 120);
+  float worst = 0.0f;
+  int between = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x) {
+      // The window pixel's centre in the image: (x + 0.5) / 2 - 0.5, between pixels x0 and x0 + 1.
+      const float sx = std::clamp((float(x) + 0.5f) * 0.5f - 0.5f, 0.0f, 79.0f), sy = std::clamp((float(y) + 0.5f) * 0.5f - 0.5f, 0.0f, 59.0f);
+      const int x0 = int(sx), y0 = int(sy), x1 = std::min(79, x0 + 1), y1 = std::min(59, y0 + 1);
+      bool strictly = false;
+      for (int c = 0; c < 3; ++c) {
+        const float corners[4] = {image.at(x0, y0)[c], image.at(x1, y0)[c], image.at(x0, y1)[c], image.at(x1, y1)[c]};
+        const float low = *std::min_element(corners, corners + 4), high = *std::max_element(corners, corners + 4);
+        const float got = window.at(x, y)[c];
+        worst = std::max({worst, low - got, got - high});
+        strictly |= got > low + 0.005f && got < high - 0.005f && std::none_of(corners, corners + 4, [&](float k) { return std::abs(k - got) < 0.005f; });
+      }
+      between += strictly;
+    }
+  EXPECT_LT(worst, 0.01f) << "a window pixel outside the range of the rendered pixels around it";
+  EXPECT_GT(between, 100) << "no bilinear scaling: window pixels repeat rendered ones";
+  // A resize keeps the scale (without --frames: the renderer must go on to render the new size).
+  write_file(dir / "r.txt", "wait 3\nresize 128 80\nwait 30\nscreenshot " + (dir / "resized.exr").string() + "\n");
+  const ProgramRun r = viewer(kCornell + kStill + " --render-scale 0.5 --script " + (dir / "r.txt").string());
+  ASSERT_EQ(r.exit_code, 0) << r.out;
+  const epi::RgbImage resized = epi::read_image(dir / "resized.exr");
+  EXPECT_EQ(resized.width, 64);
+  EXPECT_EQ(resized.height, 40);
+}
+
 TEST(ViewerWindow, EveryStageViewIsDistinctAndNonEmpty) {
   REQUIRE_DISPLAY();
   const fs::path dir = temp_dir("stages");
@@ -488,6 +533,18 @@ TEST(ViewerInput, BadScriptsAndOutputsFailBeforeAnyWindow) {
     EXPECT_EQ(v.exit_code, 1) << c.args << "\n" << v.out;
     EXPECT_EQ(count_lines(v.out), 1) << v.out;
     EXPECT_NE(v.out.find(c.expect), std::string::npos) << v.out;
+  }
+}
+
+// The viewer's own numeric flags refuse what is out of range or not a number, before any window.
+TEST(ViewerInput, BadViewerFlagsFailBeforeAnyWindow) {
+  for (const std::string args : {"--render-scale 0", "--render-scale 1.5", "--render-scale nan", "--max-fps nan", "--max-fps -1",
+                                 "--ui-fps inf", "--ui-fps 0"}) {
+    const ProgramRun v = viewer_without_display(kCornell + " " + args);
+    EXPECT_EQ(v.signal, 0) << args << "\n" << v.out;
+    EXPECT_EQ(v.exit_code, 2) << args << "\n" << v.out;
+    EXPECT_EQ(v.out.rfind("epi-viewer: " + args.substr(0, args.find(' ')), 0), 0u) << args << "\n" << v.out;
+    EXPECT_NE(v.out.find("Usage:"), std::string::npos) << v.out;
   }
 }
 
