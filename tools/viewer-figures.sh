@@ -50,6 +50,12 @@ xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$scene" --size 960x600 --scri
 # The default 512x512 window: the panel folded to its title bar, the overlay in its compact form.
 printf 'wait 60\nwindow-screenshot %s\n' "$images/window-512.png" > "$work/window-512.txt"
 xvfb-run -a -s "-screen 0 1280x1024x24" "$viewer" "$scene" --script "$work/window-512.txt"
+# Render scale: chains in a 1280x720 window while the camera orbits (a drag), rendered at the
+# window's size and at half its width and height (docs/viewer.md, "Render scale").
+for scale in 1 0.5; do
+  printf 'key TAB\nwait 40\ndrag left 600 360 760 360 40\nwindow-screenshot %s\n' "$images/render-scale-$scale-moving.png" > "$work/scale.txt"
+  xvfb-run -a -s "-screen 0 1920x1200x24" "$viewer" "$root/scenes/chains.gltf" --size 1280x720 --render-scale "$scale" --script "$work/scale.txt"
+done
 
 fi
 
