@@ -97,6 +97,17 @@ void EdgeCrossings::build(std::span<const Segment> segments, std::span<const edg
   for (size_t k = 0; k < pairs_.size(); ++k) cell_pieces_[k] = pairs_[k].second;  // sorted by cell
 }
 
+bool EdgeCrossings::any_piece_near(int x0, int y0, int x1, int y1) const {
+  if (pieces_.empty()) return false;
+  const int cx0 = std::clamp(x0 / kCell, 0, cells_x_ - 1), cx1 = std::clamp(x1 / kCell, 0, cells_x_ - 1);
+  const int cy0 = std::clamp(y0 / kCell, 0, cells_y_ - 1), cy1 = std::clamp(y1 / kCell, 0, cells_y_ - 1);
+  for (int cy = cy0; cy <= cy1; ++cy) {
+    const size_t row = size_t(cy) * size_t(cells_x_);
+    if (cell_start_[row + size_t(cx1) + 1] != cell_start_[row + size_t(cx0)]) return true;  // CSR: the row's cells in one span
+  }
+  return false;
+}
+
 bool EdgeCrossings::separated(glm::dvec2 a, glm::dvec2 b, double nearer_than) const {
   if (pieces_.empty()) return false;
   // A piece counts where 1/depth there exceeds this (every piece when depths are unknown).

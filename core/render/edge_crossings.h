@@ -29,6 +29,9 @@ class EdgeCrossings {
   // `nearer_than` where it touches (its depth interpolated along the piece; where the two touch
   // along a stretch or at an end, the piece's nearer end).
   bool separated(glm::dvec2 a, glm::dvec2 b, double nearer_than = std::numeric_limits<double>::infinity()) const;
+  // Whether any barrier piece is bucketed in the cells that pixels x0..x1, y0..y1 overlap (a
+  // superset of the pieces inside that rectangle: cheap, and exact enough to say "none near").
+  bool any_piece_near(int x0, int y0, int x1, int y1) const;
   size_t pieces() const { return pieces_.size(); }
 
   static constexpr int kCell = 4;  // cell side in pixels

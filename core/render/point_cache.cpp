@@ -477,7 +477,7 @@ size_t PointCache::depth_cull(std::span<const uint8_t> edge_pixels) {
   // The means see the z-buffer's winners: culled pixels are listed per band, removed after.
   const float *depth = image_.depth.data(), *min_depth = min_depth_.data();
   const int32_t* point = image_.point.data();
-  for_candidates([=](size_t i) { return (depth[i] > min_depth[i] * cull_scale) & (point[i] >= 0); },
+  for_candidates([=](size_t i, int, int) { return (depth[i] > min_depth[i] * cull_scale) & (point[i] >= 0); },
                  [&](int x, int y, std::vector<uint32_t>& culled) {
         const size_t i = image_.index(x, y);
         double sum = 0.0;
@@ -845,9 +845,17 @@ bool PointCache::refines(const CachePoint& cached, const PointColour& cached_col
   return true;
 }
 
+bool PointCache::stray_background(const EdgeCrossings& crossings, int x, int y) const {
+  const size_t i = image_.index(x, y);
+  const int r = stray_background_radius();
+  // The point's record last: most background pixels near a surface have its outline near.
+  return image_.depth[i] >= background_depth_ * kBackgroundDepthShare && !crossings.any_piece_near(x - r, y - r, x + r, y + r) &&
+         points_[size_t(image_.point[i])].object == kNone;
+}
+
 bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                            const EdgeCrossings& crossings, int x, int y, bool dense_window,
-                                           bool sparse_ring, bool occluder_ring) const {
+                                           bool sparse_ring, bool occluder_ring, bool background_ring) const {
   const int w = image_.width, h = image_.height, dense = std::max(1, settings_.occlusion_radius);
   const int radius = std::max(dense, settings_.sparse_occlusion_radius);
   const float scale = 1.0f + settings_.occlusion_margin;
@@ -924,18 +932,37 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
     }
     if (any_behind()) return true;
   }
-  if (radius == dense || !sparse_ring) return false;
-  // Beyond the dense radius a nearer point counts only where it stands alone: no other drawn
-  // point in its 3x3 is nearer than this one by the margin (mark_alone; alone_depth_ is +inf
-  // where no point is, or none that could stand alone).
+  if (radius == dense) return false;
+  if (background_ring && stray_background(crossings, x, y)) {
+    // A stray background point (where a surface the camera has just revealed is sampled sparsely
+    // among the background points it used to show): every nearer point of a wider window
+    // counts, not only the lone ones. The window holds the rings below (lone points, new occluders).
+    const int r = stray_background_radius();
+    const int bx0 = std::max(0, x - r), bx1 = std::min(w - 1, x + r);
+    uint32_t skip = 0;  // the dense window's columns in its rows
+    for (int qx = std::max(bx0, x - dense); qx <= std::min(bx1, x + dense); ++qx) skip |= uint32_t(1) << (qx - bx0);
+    const int32_t* point = image_.point.data();
+    const float* depths = image_.depth.data();
+    for (int qy = std::max(0, y - r); qy <= std::min(h - 1, y + r); ++qy) {
+      const size_t q0 = image_.index(bx0, qy);
+      uint32_t bits = 0;
+      for (int k = 0; k <= bx1 - bx0; ++k) bits |= uint32_t((point[q0 + size_t(k)] >= 0) & (depths[q0 + size_t(k)] * scale < depth)) << k;
+      if (consider_bits(q0, bits & ~(std::abs(qy - y) <= dense ? skip : 0))) return true;
+    }
+    return any_behind();
+  }
+  if (!sparse_ring) return false;
   const int x0 = std::max(0, x - radius), x1 = std::min(w - 1, x + radius);
   const int y0 = std::max(0, y - radius), y1 = std::min(h - 1, y + radius);
-  uint32_t masks[2 * kMaxOcclusionRadius + 1];
-  lone_window_masks(&alone_depth_[image_.index(x0, y0)], &neighbour_min_depth_[image_.index(x0, y0)], size_t(w),
-                    y1 - y0 + 1, x1 - x0 + 1, scale, depth, masks);
   // The dense window's columns, skipped in its rows (tested above, or not wanted).
   uint32_t inner = 0;
   for (int qx = std::max(x0, x - dense); qx <= std::min(x1, x + dense); ++qx) inner |= uint32_t(1) << (qx - x0);
+  // Beyond the dense radius a nearer point counts only where it stands alone: no other drawn
+  // point in its 3x3 is nearer than this one by the margin (mark_alone; alone_depth_ is +inf
+  // where no point is, or none that could stand alone).
+  uint32_t masks[2 * kMaxOcclusionRadius + 1];
+  lone_window_masks(&alone_depth_[image_.index(x0, y0)], &neighbour_min_depth_[image_.index(x0, y0)], size_t(w),
+                    y1 - y0 + 1, x1 - x0 + 1, scale, depth, masks);
   for (int qy = y0; qy <= y1; ++qy)
     if (consider_bits(image_.index(x0, qy), masks[qy - y0] & ~(std::abs(qy - y) <= dense ? inner : 0))) return true;
   if (any_behind()) return true;
@@ -968,23 +995,60 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   window_min_depth(radius);
   const bool sparse = mark_alone();
   if (sparse) window_min(alone_depth_, settings_.sparse_occlusion_radius, sparse_min_depth_);
+  // Stray background points (stray_background; the rule needs the sparse one): where a nearer
+  // point may lie within their window.
+  stray_cell_minima(sparse);
   near_occluders(sparse && any_new_occluder_);
   // The test sees the image before the pass: hidden pixels are listed per band, removed after.
   const float *depth = image_.depth.data(), *min_depth = min_depth_.data();
   const float* sparse_min = sparse ? sparse_min_depth_.data() : min_depth;
+  const float background_floor = background_depth_ * kBackgroundDepthShare;
   const float* occluder_near = occluder_near_.data();
   const int32_t* point = image_.point.data();
-  for_candidates([=](size_t i) {
-    return (std::min({min_depth[i], sparse_min[i], occluder_near[i]}) * scale < depth[i]) & (point[i] >= 0);
+  // A background-deep point with a nearer point in the cells around its own: stray_background decides.
+  const float* stray_near = sparse ? stray_near_.data() : nullptr;
+  const size_t w = size_t(image_.width);
+  auto background_ring = [=](size_t i, int x, int y) {
+    return sparse && (depth[i] >= background_floor) & (stray_near[size_t(y >> kStrayCellShift) * w + size_t(x)] * scale < depth[i]);
+  };
+  for_candidates([=](size_t i, int x, int y) {
+    return ((std::min({min_depth[i], sparse_min[i], occluder_near[i]}) * scale < depth[i]) | background_ring(i, x, y)) & (point[i] >= 0);
   }, [&](int x, int y, std::vector<uint32_t>& hidden) {
     // A window whose least depth is not nearer by the margin cannot hold the nearer point.
     const size_t i = image_.index(x, y);
     const bool occluder_ring = occluder_near[i] * scale < depth[i];
     if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y, min_depth[i] * scale < depth[i],
-                                  sparse_min[i] * scale < depth[i] || occluder_ring, occluder_ring))
+                                  sparse_min[i] * scale < depth[i] || occluder_ring, occluder_ring, background_ring(i, x, y)))
       hidden.push_back(uint32_t(i));
   }, [&](size_t i) { __builtin_prefetch(&points_[size_t(point[i])]); });  // the record p's exact position is made from
   return remove_listed();
+}
+
+void PointCache::stray_cell_minima(bool any) {
+  // Per band of 2^kStrayCellShift rows and per pixel column: at most the least depth within the
+  // stray window's radius of any pixel of the band in that column (a superset of the candidates
+  // is fine: the window scan decides). From min_depth_ (windows of the occlusion radius, made
+  // first by cull_behind_surfaces) on rows whose windows hold the band, then windows along rows
+  // (row_window_min) and the bands within reach.
+  const int w = image_.width, h = image_.height, side = 1 << kStrayCellShift, r = stray_background_radius();
+  const int bands = (h + side - 1) / side, k = (r + side - 1) / side;
+  static_assert(1 << kStrayCellShift == 4);
+  const std::vector<int> at = std::max(1, settings_.occlusion_radius) >= 2 ? std::vector<int>{2} : std::vector<int>{1, 3};
+  if (!any) return;  // cull_behind_surfaces reads none of it
+  stray_cells_.resize(size_t(bands) * size_t(w)), stray_near_.resize(stray_cells_.size());
+  tbb::parallel_for(0, bands, [&](int b) {
+    const float* rows[2];
+    for (size_t j = 0; j < at.size(); ++j) rows[j] = &min_depth_[image_.index(0, std::min(h - 1, b * side + at[j]))];
+    float* near = &stray_near_[size_t(b) * size_t(w)];
+    rows_min(rows, int(at.size()), near, w);
+    row_window_min(near, &stray_cells_[size_t(b) * size_t(w)], w, r);
+  });
+  tbb::parallel_for(0, bands, [&](int b) {
+    const float* rows[2 * kMaxOcclusionRadius + 1];
+    int count = 0;
+    for (int n = std::max(0, b - k); n <= std::min(bands - 1, b + k); ++n) rows[count++] = &stray_cells_[size_t(n) * size_t(w)];
+    rows_min(rows, count, &stray_near_[size_t(b) * size_t(w)], w);
+  });
 }
 
 void PointCache::near_occluders(bool any) {
@@ -1097,7 +1161,7 @@ void PointCache::for_candidates(const Candidate& candidate, const Visit& visit, 
         const int n = std::min(kChunk, w - x0);
         const size_t row = image_.index(x0, y);
         std::array<uint8_t, kChunk + 8> flags{};  // zero past n
-        for (int k = 0; k < n; ++k) flags[size_t(k)] = uint8_t(candidate(row + size_t(k)));
+        for (int k = 0; k < n; ++k) flags[size_t(k)] = uint8_t(candidate(row + size_t(k), x0 + k, y));
         std::array<uint16_t, kChunk> found;  // the chunk's candidates, in order
         size_t count = 0;
         for (int k = 0; k < n; k += 8) {

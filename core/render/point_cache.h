@@ -321,9 +321,24 @@ class PointCache {
   // Both paths: whether (x, y) is within a pixel of a depth edge (the depth cull leaves it alone).
   bool near_depth_edge(std::span<const uint8_t> edge_pixels, int x, int y) const;
   // The occlusion test of one drawn pixel (both paths; normal_to_world_ made for this frame).
+  // background_ring: the stray background rule's window (stray_background) is scanned.
   bool hidden_behind_a_neighbour(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                  const EdgeCrossings& crossings, int x, int y, bool dense_window = true,
-                                 bool sparse_ring = true, bool occluder_ring = true) const;
+                                 bool sparse_ring = true, bool occluder_ring = true, bool background_ring = true) const;
+  // Whether the point drawn at (x, y) is a stray background point (docs/render.md, "Stray
+  // background points"): a background point (at least kBackgroundDepthShare of background_depth_
+  // deep, as every background point in a view narrower than 178 degrees is) with no barrier edge
+  // (silhouette, border, sharp) within stray_background_radius() pixels. Background shows only
+  // where no surface is, and every surface's outline is a barrier edge: every nearer point of
+  // that window, not only a lone one, may hide it (8 pixels: 4, the sparse radius, left as many
+  // dots on chains' floor after a fast orbit as there were without the rule on one seed of three).
+  static constexpr float kBackgroundDepthShare = 0.01f;
+  static constexpr int kStrayBackgroundRadius = 8;
+  bool stray_background(const EdgeCrossings& crossings, int x, int y) const;
+  int stray_background_radius() const {  // at least the other rules' windows (their points are a subset)
+    return std::min(kMaxOcclusionRadius, std::max({kStrayBackgroundRadius, settings_.sparse_occlusion_radius,
+                                                   settings_.occlusion_radius, settings_.new_occluder_radius}));
+  }
   size_t cull_behind_surfaces_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                         const EdgeCrossings& crossings);
   void fill_epi_reference(EpiImage& epi) const;
@@ -411,6 +426,12 @@ class PointCache {
   std::vector<float> min_depth_;                    // window_min_depth
   std::vector<std::vector<float>> min_rings_;       // window_min: each band's ring of row minima
   std::vector<float> neighbour_min_depth_, alone_depth_, sparse_min_depth_;  // mark_alone
+  // stray_cell_minima: per band of 2^kStrayCellShift rows and pixel column, at most the least
+  // depth within the stray window's radius of the band's pixels there (stray_near_; the fast
+  // path's candidates for the stray background rule); nothing when `any` is false.
+  static constexpr int kStrayCellShift = 2;
+  std::vector<float> stray_cells_, stray_near_;
+  void stray_cell_minima(bool any);
   std::vector<float> occluder_depth_;       // ... new occluders (+inf but at occluder_pixels_)
   std::vector<uint32_t> occluder_pixels_;
   bool any_new_occluder_ = false;

@@ -1,5 +1,6 @@
 // EdgeCrossings (the occlusion test's "is there an edge between these two points?") against a
 // brute-force test of every piece, and the occlusion test at pixels an edge crosses.
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -46,6 +47,52 @@ ShadeResult plane_hit(const ViewFrame& frame, float px, float py, float plane_z,
   r.position = ray.origin + (plane_z - ray.origin.z) / ray.direction.z * ray.direction;
   r.normal = {0, 0, 1}, r.color = glm::vec3(0.5f);
   return r;
+}
+
+// any_piece_near: true for every rectangle a barrier piece passes through (points along each piece
+// checked one by one), false for every rectangle no piece comes within a cell of; shadow pieces
+// never count. Pieces and rectangles inside the image (the occlusion test's windows are cut to it).
+TEST(EdgeCrossings, AnyPieceNearFindsEveryPieceInARectangle) {
+  std::mt19937 rng(11);
+  const int w = 83, h = 57;
+  std::uniform_real_distribution<double> x(0.0, w), y(0.0, h);
+  std::uniform_int_distribution<int> size(0, 12);
+  for (int round = 0; round < 30; ++round) {
+    std::vector<Segment> segments;
+    std::vector<EdgeKind> kinds;
+    for (int k = 0; k < 6; ++k) {
+      segments.push_back({x(rng), y(rng), x(rng), y(rng)});
+      kinds.push_back(k % 3 == 2 ? EdgeKind::shadow : EdgeKind::silhouette);
+    }
+    EdgeCrossings crossings;
+    crossings.build(segments, kinds, w, h);
+    for (int q = 0; q < 200; ++q) {
+      const int x0 = std::uniform_int_distribution<int>(0, w - 1)(rng), y0 = std::uniform_int_distribution<int>(0, h - 1)(rng);
+      const int x1 = std::min(w - 1, x0 + size(rng)), y1 = std::min(h - 1, y0 + size(rng));
+      // The least distance (in x or y, pixels) from the rectangle to a barrier piece's points.
+      double nearest = 1e9;
+      for (size_t k = 0; k < segments.size(); ++k) {
+        if (kinds[k] == EdgeKind::shadow) continue;
+        const Segment& s = segments[k];
+        for (int t = 0; t <= 2000; ++t) {
+          const double px = s.x0 + (s.x1 - s.x0) * t / 2000.0, py = s.y0 + (s.y1 - s.y0) * t / 2000.0;
+          const double dx = std::max({double(x0) - px, px - double(x1 + 1), 0.0});
+          const double dy = std::max({double(y0) - py, py - double(y1 + 1), 0.0});
+          nearest = std::min(nearest, std::max(dx, dy));
+        }
+      }
+      const bool near = crossings.any_piece_near(x0, y0, x1, y1);
+      if (nearest < 0.01) {
+        EXPECT_TRUE(near) << x0 << "," << y0 << " " << x1 << "," << y1;
+      }
+      if (nearest > EdgeCrossings::kCell + 0.01) {
+        EXPECT_FALSE(near) << x0 << "," << y0 << " " << x1 << "," << y1;
+      }
+    }
+  }
+  EdgeCrossings empty;
+  empty.build({}, {}, w, h);
+  EXPECT_FALSE(empty.any_piece_near(0, 0, w, h));
 }
 
 TEST(EdgeCrossings, AgreesWithTestingEveryBarrierPiece) {
@@ -258,6 +305,68 @@ TEST(PointCache, ALoneNearPointHidesTheFarPointsWithinTheSparseRadius) {
                                                                 << radius << ", far point " << x << "," << y;
         }
     }
+}
+
+// The background seen at every pixel's centre (results that hit nothing: background points).
+ShadeBatch background(const ViewFrame& frame) {
+  ShadeBatch sky;
+  for (int y = 0; y < frame.view().height; ++y)
+    for (int x = 0; x < frame.view().width; ++x) {
+      ShadeResult r;
+      r.x = float(x) + 0.5f, r.y = float(y) + 0.5f, r.hit = false;
+      sky.results.push_back(r);
+    }
+  return sky;
+}
+
+// A surface the camera has just revealed where it used to see the background (chains' floor after
+// a fast orbit: black dots) is sampled sparsely, in pairs of points, among the background points
+// of every pixel. A pair is no lone sample, so the sparse rule leaves a far plane's points
+// between the pairs drawn; background points there, with no barrier edge within 8 pixels, are all
+// hidden (docs/render.md, "Stray background points"). With a silhouette down the image, the
+// background points within 8 pixels of it are not stray: those 3 or more pixels from every pair
+// stay, and every one beyond the silhouette, where no surface is, stays.
+TEST(PointCache, StrayBackgroundPointsAmidASparseSurfaceAreHidden) {
+  const int w = 40, h = 30;
+  const ViewFrame frame = planes_view(w, h);
+  ShadeBatch pairs;
+  for (int y = 2; y < h; y += 6)
+    for (int x = 2; x < 20; x += 6)
+      for (int dx : {0, 1}) pairs.results.push_back(plane_hit(frame, float(x + dx) + 0.5f, float(y) + 0.5f, 1.0f, 1));
+  auto drawn = [](const PointCache& cache, uint32_t object, int x_from, int x_to) {
+    size_t n = 0;
+    const PointImage& image = cache.image();
+    for (int y = 0; y < image.height; ++y)
+      for (int x = x_from; x < x_to; ++x) {
+        const int32_t p = image.point[image.index(x, y)];
+        n += p >= 0 && cache.points()[size_t(p)].object == object;
+      }
+    return n;
+  };
+  PointCacheSettings settings;  // the defaults: dense radius 2, sparse 4
+  settings.new_occluder_radius = 0;
+  EdgeCrossings none;
+  none.build({}, {}, w, h);
+  // The far plane between the pairs (columns 2-3, 8-9, 14-15; rows 2, 8, ..., 26): drawn 3 or
+  // more pixels from every pair, in rows 5, 11, ..., 29 and columns 18 and 19.
+  const size_t beyond_3_pixels = 5 * 20 + 25 * 2;
+  const PointCache plane = near_over_far(frame, far_plane(frame), pairs, settings, none);
+  EXPECT_EQ(drawn(plane, 0, 0, 20), beyond_3_pixels);
+  // The background there: hidden wherever a pair lies within 8 pixels, so up to x = 23.
+  const PointCache sky = near_over_far(frame, background(frame), pairs, settings, none);
+  EXPECT_EQ(drawn(sky, kNone, 0, 24), 0u);
+  EXPECT_EQ(drawn(sky, kNone, 24, w), size_t((w - 24) * h));
+  EXPECT_EQ(drawn(sky, 1, 0, w), pairs.results.size());
+  // A silhouette at x = 21.5 (the surface's outline): no stray background near it.
+  EdgeCrossings outline;
+  outline.build(std::vector<Segment>{{21.5, -1.0, 21.5, h + 1.0}}, std::vector<EdgeKind>{EdgeKind::silhouette}, w, h);
+  const PointCache edged = near_over_far(frame, background(frame), pairs, settings, outline);
+  EXPECT_EQ(drawn(edged, kNone, 22, w), size_t((w - 22) * h));
+  EXPECT_GT(drawn(edged, kNone, 12, 22), 20u);  // near the outline (its 4-pixel cell within 8): the other rules only
+  EXPECT_EQ(drawn(edged, kNone, 0, 12), 0u);    // farther from it: stray, hidden
+  // Without the sparse rule there is no stray rule either.
+  settings.sparse_occlusion_radius = 0;
+  EXPECT_EQ(drawn(near_over_far(frame, background(frame), pairs, settings, none), kNone, 0, 20), beyond_3_pixels);
 }
 
 // Which far points (object 0) are drawn: one flag per pixel.
