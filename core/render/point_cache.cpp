@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <type_traits>
 #include <bit>
 #include <cmath>
 #include <cstddef>
@@ -996,32 +997,60 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   const bool sparse = mark_alone();
   if (sparse) window_min(alone_depth_, settings_.sparse_occlusion_radius, sparse_min_depth_);
   // Stray background points (stray_background; the rule needs the sparse one): where a nearer
-  // point may lie within their window.
-  stray_cell_minima(sparse);
+  // point may lie within their window. Most frames of closed scenes draw no background point:
+  // then nothing of it is computed.
+  const float background_floor = background_depth_ * kBackgroundDepthShare;
+  const bool strays = sparse && any_drawn_deeper(background_floor);
+  stray_cell_minima(strays);
   near_occluders(sparse && any_new_occluder_);
   // The test sees the image before the pass: hidden pixels are listed per band, removed after.
   const float *depth = image_.depth.data(), *min_depth = min_depth_.data();
   const float* sparse_min = sparse ? sparse_min_depth_.data() : min_depth;
-  const float background_floor = background_depth_ * kBackgroundDepthShare;
   const float* occluder_near = occluder_near_.data();
   const int32_t* point = image_.point.data();
   // A background-deep point with a nearer point in the cells around its own: stray_background decides.
-  const float* stray_near = sparse ? stray_near_.data() : nullptr;
+  const float* stray_near = strays ? stray_near_.data() : nullptr;
   const size_t w = size_t(image_.width);
   auto background_ring = [=](size_t i, int x, int y) {
-    return sparse && (depth[i] >= background_floor) & (stray_near[size_t(y >> kStrayCellShift) * w + size_t(x)] * scale < depth[i]);
+    return (depth[i] >= background_floor) & (stray_near[size_t(y >> kStrayCellShift) * w + size_t(x)] * scale < depth[i]);
   };
-  for_candidates([=](size_t i, int x, int y) {
-    return ((std::min({min_depth[i], sparse_min[i], occluder_near[i]}) * scale < depth[i]) | background_ring(i, x, y)) & (point[i] >= 0);
-  }, [&](int x, int y, std::vector<uint32_t>& hidden) {
-    // A window whose least depth is not nearer by the margin cannot hold the nearer point.
-    const size_t i = image_.index(x, y);
-    const bool occluder_ring = occluder_near[i] * scale < depth[i];
-    if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y, min_depth[i] * scale < depth[i],
-                                  sparse_min[i] * scale < depth[i] || occluder_ring, occluder_ring, background_ring(i, x, y)))
-      hidden.push_back(uint32_t(i));
-  }, [&](size_t i) { __builtin_prefetch(&points_[size_t(point[i])]); });  // the record p's exact position is made from
+  // Two forms of the pass, with and without the stray rule's candidates.
+  auto pass = [&](auto with_strays) {
+    for_candidates([=](size_t i, int x, int y) {
+      bool candidate = std::min({min_depth[i], sparse_min[i], occluder_near[i]}) * scale < depth[i];
+      if constexpr (with_strays) candidate |= background_ring(i, x, y);
+      return candidate & (point[i] >= 0);
+    }, [&](int x, int y, std::vector<uint32_t>& hidden) {
+      // A window whose least depth is not nearer by the margin cannot hold the nearer point.
+      const size_t i = image_.index(x, y);
+      const bool occluder_ring = occluder_near[i] * scale < depth[i];
+      if (hidden_behind_a_neighbour(frame, object_to_world, crossings, x, y, min_depth[i] * scale < depth[i],
+                                    sparse_min[i] * scale < depth[i] || occluder_ring, occluder_ring,
+                                    with_strays && background_ring(i, x, y)))
+        hidden.push_back(uint32_t(i));
+    }, [&](size_t i) { __builtin_prefetch(&points_[size_t(point[i])]); });  // the record p's exact position is made from
+  };
+  if (strays) {
+    pass(std::true_type{});
+  } else {
+    pass(std::false_type{});
+  }
   return remove_listed();
+}
+
+bool PointCache::any_drawn_deeper(float floor) const {
+  // Bands in parallel, each a plain loop the compiler vectorizes (empty pixels are +inf deep).
+  std::atomic<bool> found{false};
+  const int w = image_.width;
+  tbb::parallel_for(tbb::blocked_range<int>(0, image_.height, 64), [&](const tbb::blocked_range<int>& rows) {
+    if (found.load(std::memory_order_relaxed)) return;
+    const float* depth = &image_.depth[image_.index(0, rows.begin())];
+    const size_t n = size_t(rows.size()) * size_t(w);
+    bool any = false;
+    for (size_t i = 0; i < n; ++i) any |= (depth[i] >= floor) & (depth[i] < std::numeric_limits<float>::infinity());
+    if (any) found.store(true, std::memory_order_relaxed);
+  });
+  return found.load();
 }
 
 void PointCache::stray_cell_minima(bool any) {

@@ -432,6 +432,7 @@ class PointCache {
   static constexpr int kStrayCellShift = 2;
   std::vector<float> stray_cells_, stray_near_;
   void stray_cell_minima(bool any);
+  bool any_drawn_deeper(float floor) const;  // whether some drawn point lies at least `floor` deep
   std::vector<float> occluder_depth_;       // ... new occluders (+inf but at occluder_pixels_)
   std::vector<uint32_t> occluder_pixels_;
   bool any_new_occluder_ = false;
