@@ -921,15 +921,17 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
       if (consider(q0 + size_t(std::countr_zero(bits)))) return true;
     return false;
   };
+  // The drawn points nearer than p by the margin among the n pixels from q0, as a mask.
+  auto nearer_bits = [&, point = image_.point.data(), depths = image_.depth.data()](size_t q0, int n) {
+    uint32_t bits = 0;
+    for (int k = 0; k < n; ++k) bits |= uint32_t((point[q0 + size_t(k)] >= 0) & (depths[q0 + size_t(k)] * scale < depth)) << k;
+    return bits;
+  };
   if (dense_window) {
-    const int32_t* point = image_.point.data();
-    const float* depths = image_.depth.data();
     const int x0 = std::max(0, x - dense), x1 = std::min(w - 1, x + dense);
     for (int qy = std::max(0, y - dense); qy <= std::min(h - 1, y + dense); ++qy) {
       const size_t q0 = image_.index(x0, qy);
-      uint32_t bits = 0;
-      for (int k = 0; k <= x1 - x0; ++k) bits |= uint32_t((point[q0 + size_t(k)] >= 0) & (depths[q0 + size_t(k)] * scale < depth)) << k;
-      if (consider_bits(q0, bits)) return true;
+      if (consider_bits(q0, nearer_bits(q0, x1 - x0 + 1))) return true;
     }
     if (any_behind()) return true;
   }
@@ -942,13 +944,9 @@ bool PointCache::hidden_behind_a_neighbour(const ViewFrame& frame, std::span<con
     const int bx0 = std::max(0, x - r), bx1 = std::min(w - 1, x + r);
     uint32_t skip = 0;  // the dense window's columns in its rows
     for (int qx = std::max(bx0, x - dense); qx <= std::min(bx1, x + dense); ++qx) skip |= uint32_t(1) << (qx - bx0);
-    const int32_t* point = image_.point.data();
-    const float* depths = image_.depth.data();
     for (int qy = std::max(0, y - r); qy <= std::min(h - 1, y + r); ++qy) {
       const size_t q0 = image_.index(bx0, qy);
-      uint32_t bits = 0;
-      for (int k = 0; k <= bx1 - bx0; ++k) bits |= uint32_t((point[q0 + size_t(k)] >= 0) & (depths[q0 + size_t(k)] * scale < depth)) << k;
-      if (consider_bits(q0, bits & ~(std::abs(qy - y) <= dense ? skip : 0))) return true;
+      if (consider_bits(q0, nearer_bits(q0, bx1 - bx0 + 1) & ~(std::abs(qy - y) <= dense ? skip : 0))) return true;
     }
     return any_behind();
   }
