@@ -805,8 +805,8 @@ void Viewer::draw_overlay() {
     ImGui::End();
     return;
   }
-  ImGui::Text("%s, %dx%d, %s shader", render::to_string(frame_.settings.mode), frame_.width, frame_.height,
-              kShaderNames[int(frame_.settings.shader.kind)]);
+  ImGui::Text("%s, %dx%d%s, %s shader", render::to_string(frame_.settings.mode), frame_.width, frame_.height,
+              frame_.width == fb_width_ ? "" : " (scaled up)", kShaderNames[int(frame_.settings.shader.kind)]);
   if (frame_.settings.mode == SessionMode::epi || frame_.settings.mode == SessionMode::rendercache) {
     ImGui::Text("samples/frame %zu (asked %zu, lag %.1f) | %.1f Mrays/s", frame_.stats.samples, frame_.stats.requested,
                 frame_.stats.result_lag, frame_.mrays_per_second);
@@ -916,7 +916,7 @@ void Viewer::draw_panel() {
   float max_fps = float(s.max_fps);
   if (ImGui::SliderFloat("frame cap", &max_fps, 0.0f, 240.0f, max_fps == 0.0f ? "none" : "%.0f fps")) s.max_fps = max_fps;
   float render_scale = float(render_scale_);
-  if (ImGui::SliderFloat("render scale", &render_scale, 0.25f, 1.0f, "%.2f")) {
+  if (ImGui::SliderFloat("render scale", &render_scale, 0.1f, 1.0f, "%.2f")) {  // the flag's range
     render_scale_ = render_scale, resized_at_ = Clock::now(), resize_pending_ = true;  // applied as a resize is
   }
   if (ImGui::IsItemHovered())
