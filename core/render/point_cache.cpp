@@ -8,13 +8,13 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <type_traits>
 #include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -1037,7 +1037,7 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
 }
 
 bool PointCache::any_drawn_deeper(float floor) const {
-  // Bands in parallel, each a plain loop the compiler vectorizes (empty pixels are +inf deep).
+  // Bands in parallel, each a plain branch-free loop (empty pixels are +inf deep).
   std::atomic<bool> found{false};
   const int w = image_.width;
   tbb::parallel_for(tbb::blocked_range<int>(0, image_.height, 64), [&](const tbb::blocked_range<int>& rows) {
@@ -1057,17 +1057,19 @@ void PointCache::stray_cell_minima(bool any) {
   // is fine: the window scan decides). From min_depth_ (windows of the occlusion radius, made
   // first by cull_behind_surfaces) on rows whose windows hold the band, then windows along rows
   // (row_window_min) and the bands within reach.
+  if (!any) return;  // cull_behind_surfaces reads none of it
   const int w = image_.width, h = image_.height, side = 1 << kStrayCellShift, r = stray_background_radius();
   const int bands = (h + side - 1) / side, k = (r + side - 1) / side;
+  // The rows of a band whose windows hold it: its middle row (radius 2 or more), or rows 1 and 3.
   static_assert(1 << kStrayCellShift == 4);
-  const std::vector<int> at = std::max(1, settings_.occlusion_radius) >= 2 ? std::vector<int>{2} : std::vector<int>{1, 3};
-  if (!any) return;  // cull_behind_surfaces reads none of it
+  const bool one_row = std::max(1, settings_.occlusion_radius) >= 2;
+  const int at[2] = {one_row ? 2 : 1, 3};
   stray_cells_.resize(size_t(bands) * size_t(w)), stray_near_.resize(stray_cells_.size());
   tbb::parallel_for(0, bands, [&](int b) {
     const float* rows[2];
-    for (size_t j = 0; j < at.size(); ++j) rows[j] = &min_depth_[image_.index(0, std::min(h - 1, b * side + at[j]))];
+    for (int j = 0; j < 2; ++j) rows[j] = &min_depth_[image_.index(0, std::min(h - 1, b * side + at[j]))];
     float* near = &stray_near_[size_t(b) * size_t(w)];
-    rows_min(rows, int(at.size()), near, w);
+    rows_min(rows, one_row ? 1 : 2, near, w);
     row_window_min(near, &stray_cells_[size_t(b) * size_t(w)], w, r);
   });
   tbb::parallel_for(0, bands, [&](int b) {
