@@ -8,6 +8,7 @@
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "render/sparse_blend_kernels.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
 HWY_BEFORE_NAMESPACE();
@@ -74,6 +75,17 @@ HWY_INLINE auto Kept(D d, const uint8_t* barrier) {
   return hn::RebindMask(d, hn::Eq(hn::PromoteTo(di, hn::LoadU(d8, barrier)), hn::Zero(di)));
 }
 
+// The planes' and barriers' row of the strip `kAhead` rows ahead of the sweep, in images whose rows
+// lie a page or more apart: there the hardware prefetcher does not follow the sweep (1080p
+// 1.16x); in narrower ones it does, and the prefetches only cost (512 wide: 0.92-0.96x).
+constexpr int kAhead = 8;
+inline bool PrefetchRows(int width) { return size_t(width) * sizeof(float) >= 4096; }
+HWY_INLINE void PrefetchRow(const SparseColumnStrip& s, size_t at, size_t span) {
+  for (size_t c = 0; c < C; ++c)
+    for (size_t b = 0; b < sizeof(float) * span; b += 64) hwy::Prefetch(reinterpret_cast<const char*>(s.planes + c * s.plane + at) + b);
+  hwy::Prefetch(s.barrier + at);
+}
+
 // The columns [x0, x0 + kSpan), kSpan a multiple of d's lanes; forward[(y C + c) kSpan + j].
 template <class D, size_t kSpan>
 size_t Strip(D d, const SparseColumnStrip& s, int x0, float* HWY_RESTRICT forward) {
@@ -81,12 +93,14 @@ size_t Strip(D d, const SparseColumnStrip& s, int x0, float* HWY_RESTRICT forwar
   constexpr size_t N = hn::MaxLanes(D()), P = kSpan / N;
   const size_t w = size_t(s.width);
   const V va = hn::Set(d, s.a), zero = hn::Zero(d), one = hn::Set(d, 1.0f);
+  const bool ahead = PrefetchRows(s.width);
   auto plane = [&](size_t c, size_t i) { return s.planes + c * s.plane + i; };
   auto fwd = [&](int y, size_t c, size_t p) { return forward + (size_t(y) * C + c) * kSpan + p * N; };
   V acc[C * P];
   for (V& v : acc) v = zero;
   for (int y = 0; y < s.height; ++y) {
     const size_t row = size_t(y) * w + size_t(x0);
+    if (ahead && y + kAhead < s.height) PrefetchRow(s, row + kAhead * w, kSpan);
     for (size_t p = 0; p < P; ++p) {
       const V k = hn::IfThenElseZero(Kept(d, s.barrier + row + p * N), one);
       for (size_t c = 0; c < C; ++c) {
@@ -99,6 +113,7 @@ size_t Strip(D d, const SparseColumnStrip& s, int x0, float* HWY_RESTRICT forwar
   for (V& v : acc) v = zero;
   for (int y = s.height; y-- > 0;) {
     const size_t row = size_t(y) * w + size_t(x0);
+    if (ahead && y >= kAhead) PrefetchRow(s, row - kAhead * w, kSpan);
     for (size_t p = 0; p < P; ++p) {
       const auto kept = Kept(d, s.barrier + row + p * N);
       const V k = hn::IfThenElseZero(kept, one);
@@ -118,6 +133,11 @@ size_t Strip(D d, const SparseColumnStrip& s, int x0, float* HWY_RESTRICT forwar
   size_t changed = 0;
   for (int y = 0; y < s.height; ++y) {
     const size_t row = size_t(y) * w + size_t(x0);
+    if (ahead && y + kAhead < s.height) {
+      const char* rgb = reinterpret_cast<const char*>(s.image + 3 * (row + kAhead * w));
+      for (size_t b = 0; b < 3 * sizeof(float) * kSpan; b += 64) hwy::Prefetch(rgb + b);
+      hwy::Prefetch(s.barrier + row + kAhead * w);
+    }
     for (size_t p = 0; p < P; ++p) {
       const V weight = hn::LoadU(d, fwd(y, 3, p)), mass = hn::LoadU(d, fwd(y, 4, p));
       const V t = hn::Min(hn::Max(hn::Div(hn::Sub(dense, hn::Div(weight, mass)), span), zero), one);
