@@ -57,6 +57,34 @@ glm::vec2 stratified(int j, int n, Rng& rng) {
   return {(float(j % m) + a) / float(m), (float(j / m) + b) / float(m)};
 }
 
+// Punctual light `light`'s direction wi from `position` and the radiance arriving there (its
+// distance, range and cone falloff); false when the light is at the point.
+bool punctual_incoming(const PunctualLight& light, const glm::vec3& position, glm::vec3& wi, glm::vec3& incoming) {
+  incoming = light.intensity;
+  if (light.type == LightType::directional) {
+    wi = -glm::normalize(light.direction);
+    return true;
+  }
+  glm::vec3 to_light = light.position - position;
+  float d2 = glm::dot(to_light, to_light);
+  float distance = std::sqrt(d2);
+  if (!(distance > 0.0f)) return false;
+  wi = to_light / distance;
+  float attenuation = 1.0f / d2;
+  if (light.range > 0.0f) {
+    float r = distance / light.range;
+    attenuation *= std::clamp(1.0f - r * r * r * r, 0.0f, 1.0f);
+  }
+  if (light.type == LightType::spot) {
+    float cd = glm::dot(glm::normalize(light.direction), -wi);
+    float span = light.inner_cone_cos - light.outer_cone_cos;
+    float t = span > 0.0f ? std::clamp((cd - light.outer_cone_cos) / span, 0.0f, 1.0f) : (cd > light.outer_cone_cos ? 1.0f : 0.0f);
+    attenuation *= t * t;
+  }
+  incoming *= attenuation;
+  return true;
+}
+
 }  // namespace
 
 // A shading point: where a ray met a surface, oriented towards the ray's origin.
@@ -152,30 +180,8 @@ struct Shader::Tracer {
   // Reflected radiance from punctual light i, per lobe.
   BrdfValue punctual(const Surface& s, const BrdfParams& brdf, uint32_t i) {
     const PunctualLight& light = scene.punctual_lights()[i];
-    glm::vec3 wi;
-    glm::vec3 incoming = light.intensity;
-    float distance = 1e30f;
-    if (light.type == LightType::directional) {
-      wi = -glm::normalize(light.direction);
-    } else {
-      glm::vec3 to_light = light.position - s.position;
-      float d2 = glm::dot(to_light, to_light);
-      distance = std::sqrt(d2);
-      if (!(distance > 0.0f)) return {};
-      wi = to_light / distance;
-      float attenuation = 1.0f / d2;
-      if (light.range > 0.0f) {
-        float r = distance / light.range;
-        attenuation *= std::clamp(1.0f - r * r * r * r, 0.0f, 1.0f);
-      }
-      if (light.type == LightType::spot) {
-        float cd = glm::dot(glm::normalize(light.direction), -wi);
-        float span = light.inner_cone_cos - light.outer_cone_cos;
-        float t = span > 0.0f ? std::clamp((cd - light.outer_cone_cos) / span, 0.0f, 1.0f) : (cd > light.outer_cone_cos ? 1.0f : 0.0f);
-        attenuation *= t * t;
-      }
-      incoming *= attenuation;
-    }
+    glm::vec3 wi, incoming;
+    if (!punctual_incoming(light, s.position, wi, incoming)) return {};
     float cos_s = glm::dot(s.shading_normal, wi);
     if (cos_s <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f || max_component(incoming) <= 0.0f) return {};
     BrdfValue f = eval_brdf_lobes(brdf, s.shading_normal, s.wo, wi);
@@ -255,11 +261,18 @@ struct Shader::Tracer {
   // one stream each (primary hits), or from the given stream (deeper hits). brdf_samples > 0:
   // that many BRDF samples will also look for the lights from s (multiple importance sampling).
   // Per lobe: the specular lobe's share is what depends on the eye (docs/render.md, "View-dependent shading").
-  BrdfValue direct_lobes(const Surface& s, int n, uint64_t key, Rng* stream, int brdf_samples = 0, bool specular_only = false) {
+  // With `lights` and `punctual_specular`: which of punctual lights 0-31 gave light, and their
+  // specular part (ShadeResult's fields of those names).
+  BrdfValue direct_lobes(const Surface& s, int n, uint64_t key, Rng* stream, int brdf_samples = 0, bool specular_only = false,
+                         uint32_t* lights = nullptr, glm::vec3* punctual_specular = nullptr) {
     BrdfParams brdf = BrdfParams::from(*s.material, settings.specular);
     BrdfValue sum;
     auto add = [](BrdfValue& to, const BrdfValue& v) { to.diffuse += v.diffuse, to.specular += v.specular; };
-    for (uint32_t i = 0; i < scene.punctual_lights().size(); ++i) add(sum, punctual(s, brdf, i));
+    for (uint32_t i = 0; i < scene.punctual_lights().size(); ++i) {
+      const BrdfValue v = punctual(s, brdf, i);
+      add(sum, v);
+      if (lights && i < 32 && max_component(v.sum()) > 0.0f) *lights |= 1u << i, *punctual_specular += v.specular;
+    }
     if (n > 0 && has_area_lights()) {
       BrdfValue area;
       for (int j = 0; j < n; ++j) {
@@ -440,7 +453,8 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
     // Glossy mode: the GGX rays also find the area lights; MIS shares the specular lobe.
     const bool glossy_rays = settings_.kind == ShaderKind::glossy && settings_.specular && settings_.glossy_samples > 0;
     const BrdfValue direct = tracer.direct_lobes(s, settings_.area_light_samples, key, nullptr,
-                                                 glossy_rays ? settings_.glossy_samples : 0, true);
+                                                 glossy_rays ? settings_.glossy_samples : 0, true, &result.punctual_lights,
+                                                 &result.punctual_specular);
     const glm::vec3 emitted = tracer.emitted(s);
     glm::vec3 color = emitted + direct.sum();
     glm::vec3 view_dependent = direct.specular;
@@ -454,7 +468,11 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
       if (!std::isfinite(color[c])) color[c] = 0.0f;
       if (!std::isfinite(view_dependent[c])) view_dependent[c] = 0.0f;
       view_dependent[c] = std::clamp(view_dependent[c], 0.0f, color[c]);
+      if (!std::isfinite(result.punctual_specular[c])) result.punctual_specular[c] = 0.0f;
+      result.punctual_specular[c] = std::clamp(result.punctual_specular[c], 0.0f, view_dependent[c]);
     }
+    result.shading_normal = s.shading_normal;
+    result.material = uint32_t(s.material - scene_.scene().materials.data());
     result.view_dependent = view_dependent;
     result.lobe_width = settings_.specular ? BrdfParams::from(*s.material, true).alpha : 0.0f;
     const bool emits = emitted.x > 0.0f || emitted.y > 0.0f || emitted.z > 0.0f;
@@ -470,6 +488,25 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
   result.triple_count = uint32_t(triples.size()) - result.triple_begin;
   rays += tracer.rays;
   return result;
+}
+
+glm::vec3 Shader::punctual_specular(const PunctualSurface& s, const glm::vec3& eye) const {
+  const Scene& scene = scene_.scene();
+  if (s.lights == 0 || s.material >= scene.materials.size() || !settings_.specular) return glm::vec3(0.0f);
+  const BrdfParams brdf = BrdfParams::from(scene.materials[s.material], true);
+  const glm::vec3 wo = glm::normalize(eye - s.position);
+  // As Tracer::surface chooses it: the interpolated normal where it faces the eye.
+  const glm::vec3& n = glm::dot(s.shading_normal, wo) > 0.0f ? s.shading_normal : s.geometric_normal;
+  glm::vec3 sum(0.0f);
+  const std::vector<PunctualLight>& lights = scene_.punctual_lights();
+  for (uint32_t i = 0; i < std::min<size_t>(lights.size(), 32); ++i) {
+    glm::vec3 wi, incoming;
+    if (!(s.lights >> i & 1u) || !punctual_incoming(lights[i], s.position, wi, incoming)) continue;
+    const float cos_s = glm::dot(n, wi);
+    if (cos_s <= 0.0f) continue;
+    sum += eval_brdf_lobes(brdf, n, wo, wi).specular * incoming * cos_s;
+  }
+  return sum;
 }
 
 void Shader::shade(const View& view, std::span<const ShadeRequest> requests, ShadeBatch& out) const {

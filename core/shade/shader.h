@@ -63,6 +63,22 @@ struct ShadeResult {
   float diffuse_transmission = 0.0f;
   uint32_t triple_begin = 0;  // into ShadeBatch::triples
   uint32_t triple_count = 0;
+  // Of view_dependent, the specular reflection of punctual lights 0-31 at the hit, and what
+  // Shader::punctual_specular recomputes it from for another eye (docs/render.md, "Punctual
+  // highlights"): the lights that reach the hit (bit i: light i is unblocked, in its range and
+  // cone, and lights the hit's front), the shading normal (world space, facing the ray) and the
+  // material (Scene::materials).
+  glm::vec3 punctual_specular{0.0f};
+  uint32_t punctual_lights = 0;
+  glm::vec3 shading_normal{0.0f};
+  uint32_t material = kNone;
+};
+
+// A surface point as Shader::punctual_specular sees it (world space; ShadeResult's fields).
+struct PunctualSurface {
+  glm::vec3 position{0.0f}, shading_normal{0.0f}, geometric_normal{0.0f};
+  uint32_t material = kNone;
+  uint32_t lights = 0;
 };
 
 struct ShadeBatch {
@@ -84,6 +100,11 @@ class Shader {
   // One request on the calling thread; triples are appended; rays counts what it traced.
   ShadeResult shade_one(const ViewFrame& frame, const ShadeRequest& request, std::vector<BlockerTriple>& triples,
                         uint64_t& rays) const;
+
+  // The specular reflection towards `eye` of the punctual lights in s.lights, with the lights as
+  // they are now: shade_one's arithmetic for those lights (ShadeResult::punctual_specular when
+  // eye is the shading view's and nothing moved), without shadow rays.
+  glm::vec3 punctual_specular(const PunctualSurface& s, const glm::vec3& eye) const;
 
   const ShaderSettings& settings() const { return settings_; }
   const RayScene& ray_scene() const { return scene_; }

@@ -326,6 +326,62 @@ TEST(Analytic, SpecularHighlightOfAMetal) {
   }
 }
 
+// The punctual lights' specular part of a result, recomputed for other eyes by
+// Shader::punctual_specular from the result's lights, normals and material, equals what the
+// shader computes from those eyes (docs/render.md, "Punctual highlights"). A smooth metal sphere
+// under a point light and a spot light, a box shadowing part of it from the point light; a
+// dielectric floor beside it.
+TEST(Analytic, PunctualSpecularIsTheShadersHighlightFromAnyEye) {
+  Scene scene;
+  const uint32_t metal = test::add_material(scene, glm::vec3(0.9f, 0.7f, 0.3f), 1.0f, 0.3f);
+  const uint32_t plastic = test::add_material(scene, glm::vec3(0.5f), 0.0f, 0.5f);
+  test::add_object(scene, test::sphere_mesh({0, 0, 1}, 1.0f, 48, 96, metal), "ball");
+  test::add_object(scene, test::quad_mesh({-10, -10, 0}, {20, 0, 0}, {0, 20, 0}, plastic), "floor");
+  test::add_object(scene, test::box_mesh({1.6f, -0.3f, 1.2f}, {1.9f, 0.3f, 1.5f}, plastic, false), "blocker");
+  scene.punctual_lights.push_back(test::point_light({3, 0, 1.6f}, glm::vec3(20.0f)));
+  PunctualLight spot = test::point_light({-1, -3, 4}, glm::vec3(30.0f, 25.0f, 20.0f));
+  spot.type = LightType::spot;
+  spot.direction = glm::normalize(glm::vec3(1, 3, -3));
+  spot.inner_cone_cos = 0.95f, spot.outer_cone_cos = 0.8f;
+  scene.punctual_lights.push_back(spot);
+  RayScene rays(scene);
+  Shader shader(rays, ShaderSettings{});
+  const glm::vec3 eyes[] = {{5, -1, 2.5f}, {4, 3, 3}, {-2, -5, 2}, {0.5f, -4, 5}};
+  int compared = 0, blocked = 0, turned = 0;
+  for (int k = 0; k < 400; ++k) {
+    // Points on the sphere's upper half and on the floor around it.
+    const float phi = 0.37f * float(k), z = 0.2f + 0.8f * float(k % 20) / 20.0f;
+    const glm::vec3 target = k % 4 == 3 ? glm::vec3(2.5f * std::cos(phi), 2.5f * std::sin(phi), 0.0f)
+                                        : glm::vec3(std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), 1 + z);
+    const View from{test::look(eyes[k % 4], target), 512, 512};
+    const ShadeResult a = shade_at(shader, from, target);
+    if (!a.hit || glm::distance(a.position, target) > 1e-3f) continue;
+    blocked += (a.punctual_lights & 1u) == 0 && a.object == 0;
+    const PunctualSurface surface{a.position, a.shading_normal, a.normal, a.material, a.punctual_lights};
+    // From the shading eye: the result's own highlight.
+    const glm::vec3 own = shader.punctual_specular(surface, from.camera.eye);
+    for (int c = 0; c < 3; ++c) ASSERT_NEAR(own[c], a.punctual_specular[c], 1e-5f * (1 + a.punctual_specular[c])) << k;
+    // From the other eyes that see the same point: what the shader computes there.
+    for (const glm::vec3& eye : eyes) {
+      const View to{test::look(eye, target), 512, 512};
+      const ShadeResult b = shade_at(shader, to, target);
+      if (!b.hit || b.object != a.object || glm::distance(b.position, a.position) > 1e-4f) continue;
+      ASSERT_EQ(b.punctual_lights, a.punctual_lights) << k;
+      const glm::vec3 now = shader.punctual_specular(surface, eye);
+      for (int c = 0; c < 3; ++c) ASSERT_NEAR(now[c], b.punctual_specular[c], 2e-3f * (b.punctual_specular[c] + 0.01f)) << k;
+      ++compared;
+      turned += glm::distance(now, own) > 0.05f * (glm::length(own) + 0.01f);
+    }
+    // Without lights nothing is reflected; the metal's light is all specular.
+    EXPECT_EQ(shader.punctual_specular({a.position, a.shading_normal, a.normal, a.material, 0}, from.camera.eye), glm::vec3(0.0f));
+    if (a.object == 0)
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(a.punctual_specular[c], a.color[c], 1e-6f * (1 + a.color[c]));
+  }
+  EXPECT_GT(compared, 250);  // 333 when written
+  EXPECT_GT(blocked, 5);   // the box shadows part of the ball from the point light
+  EXPECT_GT(turned, 80);    // the highlights moved with the eye (107 when written)
+}
+
 TEST(Analytic, GlossyReflectionSeesALitWall) {
   // A near-mirror white metal floor reflects a Lambertian wall lit by a directional light;
   // F0 = 1 makes the reflection equal to the wall's radiance (G ~ 1 at low roughness).
