@@ -133,6 +133,10 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
                  "epi mode: show sparse regions (samples several pixels apart, as on a surface the camera "
                  "approaches) as the EPI reconstructs them, a patch per sample, instead of blending them towards "
                  "an edge-stopping smooth interpolation of the samples (docs/render.md)");
+    app.add_flag("!--no-punctual-highlights", render.punctual_highlights,
+                 "epi mode: show the punctual lights' highlights as each point was shaded, fading as the view turns, "
+                 "instead of recomputing them for every frame's eye from the lights that reach the point "
+                 "(docs/render.md, \"Punctual highlights\")");
     app.add_option("--sparse-occlusion-radius", render.sparse_occlusion_radius,
                    "epi mode: pixels within which a nearer point standing alone hides the points behind it (a near "
                    "surface magnified by motion is sampled sparsely; docs/render.md). Default 4; 2 turns this "

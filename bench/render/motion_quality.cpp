@@ -17,6 +17,8 @@
 // FrameSettings::sync_as_async: requests made for the view that chose them and shaded a frame
 // later, as the viewer's asynchronous loop does (deterministic). --no-trace-ahead turns
 // FrameSettings::trace_ahead off (requests traced through the camera that chose them).
+// --no-punctual-highlights keeps the punctual lights' highlights in the cached colours, as seen
+// from the shading view (PointCacheSettings::punctual_highlight_share; docs/render.md, "Punctual highlights").
 // --settle N holds the camera at the last view for N more frames after the epi and render cache
 // paths (how fast the image settles when the user stops) and adds a table: the display RMSE at
 // the stop and 1, 2, 4, ... N frames later, beside the still run's (the same frame count at that
@@ -33,7 +35,8 @@
 // the stored colour is within 0.05 of the fresh diffuse part scaled by it plus the stored
 // view-dependent part (T(c) = 1 - F(c), F0 = 0.04; n the geometric normal).
 // Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs LIST] [--reference-dir DIR]
-//        [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--times]
+//        [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead]
+//        [--no-punctual-highlights] [--times]
 //        [--colours] [--out DIR] SCENE.gltf...
 #include <algorithm>
 #include <bit>
@@ -86,6 +89,7 @@ struct Options {
   bool times = false;  // --times: a last column, the points stage's median ms per frame
   bool as_async = false;  // --as-async: FrameSettings::sync_as_async
   bool trace_ahead = true;  // --no-trace-ahead: FrameSettings::trace_ahead off
+  bool punctual_highlights = true;  // --no-punctual-highlights: PointCacheSettings::punctual_highlight_share off
   bool colours = false;     // --colours: the stored colours against fresh shading (the second table)
   int settle = 0;           // --settle N: frames held at the last view after the path (the settling table)
 };
@@ -123,8 +127,10 @@ void compare_colours(const PointCache& cache, const ViewFrame& frame, std::span<
     // What the cache shows now (before any fade): a rescaled point's diffuse part times this view's
     // transmission about the geometric normal, as PointCache::transmission_now takes it.
     const glm::vec3 then_dir = detail::unpack_unit(p.view), now_dir = glm::normalize(frame.eye() - now.position);
-    const glm::vec3 shown = p.srgb >> 24 ? (c.color - c.view_dependent) * diffuse_transmission(glm::dot(now.normal, now_dir)) + c.view_dependent
-                                         : c.color;
+    // (plus the punctual highlight, recomputed for the last view: PointCache::highlight_now)
+    const glm::vec3 shown = (p.srgb >> 24 ? (c.color - c.view_dependent) * diffuse_transmission(glm::dot(now.normal, now_dir)) + c.view_dependent
+                                          : c.color) +
+                            cache.highlight_now(slots[now.id]);
     const double stored = display(rgb_luminance(shown));
     if (std::abs(stored - display(rgb_luminance(now.color))) <= 0.1) continue;
     ++r.off;
@@ -143,6 +149,7 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
   s.mode = mode, s.width = o.size, s.height = o.size, s.sync = true, s.sample_budget = o.budget, s.seed = o.seed;
   s.sync_as_async = o.as_async;
   s.trace_ahead = o.trace_ahead;
+  if (!o.punctual_highlights) s.cache.punctual_highlight_share = 2.0f;
   if (o.occlusion_radius >= 0) s.cache.occlusion_radius = o.occlusion_radius;
   if (o.sparse_occlusion_radius >= 0) s.cache.sparse_occlusion_radius = o.sparse_occlusion_radius;
   if (o.new_occluder_radius >= 0) s.cache.new_occluder_radius = o.new_occluder_radius;
@@ -253,13 +260,14 @@ int run_all(int argc, char** argv) {
     else if (a == "--times") o.times = true;
     else if (a == "--as-async") o.as_async = true;
     else if (a == "--no-trace-ahead") o.trace_ahead = false;
+    else if (a == "--no-punctual-highlights") o.punctual_highlights = false;
     else if (a == "--colours") o.colours = true;
     else if (a == "--settle") o.settle = std::stoi(value());
     else if (a.starts_with("-")) o.size = 0;  // unknown option (also --help): the usage line below
     else scenes.push_back(a);
   }
   if (scenes.empty() || o.size < 8 || o.frames < 1 || o.settle < 0 || !(o.budget > 0.0 && o.budget <= 1.0)) {
-    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--times] [--colours] [--settle N] [--out DIR] SCENE.gltf...\n");
+    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--no-punctual-highlights] [--times] [--colours] [--settle N] [--out DIR] SCENE.gltf...\n");
     return 2;
   }
   if (!o.out.empty()) std::filesystem::create_directories(o.out);

@@ -34,6 +34,7 @@ constexpr size_t kPointBlock = 16384;
 // than 64 x 64 at 1080p; docs/performance.md, "Point processing").
 constexpr int kTileWidth = TileLayout::kWidth, kTileHeight = TileLayout::kHeight, kBandRows = 8;
 constexpr uint16_t kShowsNothing = 0x8000;     // age bin flag: shows_nothing (fill_epi leaves the pixel empty)
+constexpr uint16_t kHighlighted = 0x4000;      // age bin flag: a punctual highlight (fill_epi adds it)
 
 }  // namespace
 
@@ -217,6 +218,8 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   std::erase_if(recent_occluders_, [&](const std::pair<uint32_t, uint32_t>& e) {
     return seeded_at_[e.first] != e.second || !new_occluder(e.first);
   });
+  highlight_normals_.resize(highlights_.empty() ? 0 : object_to_world.size());
+  for (size_t o = 0; o < highlight_normals_.size(); ++o) highlight_normals_[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
   if (settings_.reference_path) return project_reference(frame, object_to_world, depth_cull);
   const int w = image_.width, h = image_.height;
   if (frame.view().width != w || frame.view().height != h)
@@ -318,7 +321,8 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
         fade.transmission[faded] = transmission, faded_slots[faded] = uint32_t(at);
         faded += size_t(fades);
         projected_[at] = {zkey(batch.depth[k], int(spot >> 16), uint32_t(i)), (fades ? 0u : p.srgb & 0xffffffu) | priority_bits(p),
-                         uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p, p.view_share) ? kShowsNothing : 0)),
+                         uint16_t(std::min<size_t>(p.age, kAgeBins - 2) | (shows_nothing(p, p.view_share) ? kShowsNothing : 0) |
+                                  (has_highlight(i) ? kHighlighted : 0)),
                          uint16_t(spot)};
         point_tile_[at] = tile;
         ++block.tile_count[tile];
@@ -439,7 +443,7 @@ void PointCache::count_drawn(size_t tile, int x0, int y0, int x1, int y1) {
   for (int y = y0; y < y1; ++y)
     for (size_t i = image_.index(x0, y), end = i + size_t(x1 - x0); i != end; ++i) {
       const uint32_t empty = uint32_t(image_.point[i] >> 31);  // all ones for -1
-      ++ages[i & 1][(uint32_t(pixel_age_bin_[i] & ~kShowsNothing) & ~empty) | (uint32_t(kAgeBins) & empty)];
+      ++ages[i & 1][(uint32_t(pixel_age_bin_[i] & ~(kShowsNothing | kHighlighted)) & ~empty) | (uint32_t(kAgeBins) & empty)];
     }
   for (size_t k = 0; k <= kAgeBins; ++k) ages[0][k] += ages[1][k];
   tile_blocks_[tile].drawn = size_t((x1 - x0) * (y1 - y0)) - ages[0][kAgeBins];
@@ -618,6 +622,15 @@ void PointCache::prepare_result(const ViewFrame& shot, const ShadeResult& r, std
   colour.color = glm::max(r.color, glm::vec3(0.0f));
   colour.view_dependent = glm::clamp(r.view_dependent, glm::vec3(0.0f), colour.color);
   colour.epoch = epoch;
+  // A punctual highlight kept apart: the colour keeps the rest.
+  out.highlight = PunctualHighlight{};
+  const float highlight = luminance(r.punctual_specular);
+  if (highlight_source_ && r.hit && r.object < object_to_world.size() && r.punctual_lights != 0 && highlight > 0.0f &&
+      highlight >= settings_.punctual_highlight_share * luminance(colour.color)) {
+    colour.color = glm::max(colour.color - r.punctual_specular, glm::vec3(0.0f));
+    colour.view_dependent = glm::clamp(colour.view_dependent - r.punctual_specular, glm::vec3(0.0f), colour.color);
+    out.highlight = {pack_unit(glm::transpose(glm::mat3(object_to_world[r.object])) * r.shading_normal), r.punctual_lights, r.material};
+  }
   // The diffuse part is kept divided by the shading view's transmission (its byte in srgb, at
   // least 13/255: nearer grazing the division would amplify what the shading normal and the
   // geometric one disagree on), so that results from different views average to one quantity.
@@ -756,7 +769,8 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
           replace = old;
           CachePoint& cached = points_[size_t(old)];
           PointColour& stats = colours_[size_t(old)];
-          if ((no_refine_.size() != image_.point.size() || !no_refine_[pixel]) && refines(cached, stats, point, colour)) {
+          const bool alike = has_highlight(size_t(old)) == (prepared_[k].highlight.lights != 0);  // the same quantity
+          if ((no_refine_.size() != image_.point.size() || !no_refine_[pixel]) && alike && refines(cached, stats, point, colour)) {
             // The same surface point under the same placement: one more sample of the same
             // quantity. A running mean (Welford for the luminance's variance), not a replacement.
             const float n = float(stats.count) + 1.0f;
@@ -766,6 +780,7 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
             stats.luminance_m2 += (luminance(colour.color) - before) * (luminance(colour.color) - luminance(stats.color));
             stats.count = uint16_t(std::min<int>(stats.count + 1, 0xffff));
             update_from_colour(cached, stats);
+            if (!highlights_.empty()) set_highlight(size_t(old), prepared_[k].highlight);
             cached.age = 0;
             touch_slot(size_t(old));
             ++refined_;
@@ -819,6 +834,7 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
     touch_slot(slot);
     valid_points_ += size_t(!points_[slot].valid);
     points_[slot] = point, colours_[slot] = colour;
+    if (!highlights_.empty()) set_highlight(slot, prepared_[k].highlight);
     seeded_at_[slot] = in_front_of_drawn ? projections_ + 1 : 0;
     if (in_front_of_drawn && new_occluder_rule()) recent_occluders_.push_back({uint32_t(slot), projections_ + 1});
     ++inserted;
@@ -1215,14 +1231,35 @@ size_t PointCache::remove_listed() {
   return removed;
 }
 
-uint32_t PointCache::faded_srgb(const CachePoint& p, const PointColour& c, float transmission_now, bool by_steps) const {
+uint32_t PointCache::faded_srgb(const CachePoint& p, const PointColour& c, float transmission_now, bool by_steps,
+                                const glm::vec3& highlight) const {
   const float fade_span = std::max(settings_.view_fade_end - settings_.view_fade_start, 1e-3f);
   const bool rescaled = (p.srgb >> 24) != 0;
-  if (by_steps)
+  const bool plain = highlight == glm::vec3(0.0f);
+  if (by_steps && plain)
     return faded_colour_word(c.color, c.view_dependent, p.staleness, rescaled, transmission_now, settings_.view_fade_start, fade_span);
   glm::vec3 shown, shown_view;
   faded_colours(c.color, c.view_dependent, p.staleness, rescaled, transmission_now, settings_.view_fade_start, fade_span, shown, shown_view);
-  return pack_srgb(shown, shown_view);
+  if (!plain) shown += highlight, shown_view += highlight;  // (a highlight is all view-dependent)
+  return by_steps ? pack_srgb_by_steps(shown, shown_view) : pack_srgb(shown, shown_view);
+}
+
+void PointCache::set_highlight_source(const Shader* source) {
+  highlight_source_ = source;
+  if (source) highlights_.assign(points_.size(), PunctualHighlight{}), highlight_bits_.assign((points_.size() + 63) / 64, 0);
+  else highlights_.clear(), highlight_bits_.clear(), highlight_normals_.clear();
+}
+
+glm::vec3 PointCache::highlight_now(size_t slot) const {
+  if (!has_highlight(slot) || !last_frame_) return glm::vec3(0.0f);
+  const CachePoint& p = points_[slot];
+  if (p.object >= last_transforms_.size() || p.object >= highlight_normals_.size()) return glm::vec3(0.0f);
+  const PunctualHighlight& h = highlights_[slot];
+  const glm::mat3& to_world = highlight_normals_[p.object];
+  const PunctualSurface surface{glm::vec3(last_transforms_[p.object] * glm::vec4(p.local, 1.0f)),
+                                glm::normalize(to_world * unpack_unit(h.shading_normal)),
+                                glm::normalize(to_world * unpack_unit(p.normal)), h.material, h.lights};
+  return highlight_source_->punctual_specular(surface, last_frame_->eye());
 }
 
 float PointCache::transmission_now(const CachePoint& p) const {
@@ -1246,6 +1283,23 @@ void PointCache::fill_epi(EpiImage& epi) const {
         const uint32_t shown = uint32_t(0) - (uint32_t(point[i] >= 0) & uint32_t((age_bins[i] & kShowsNothing) == 0));
         edge[i] = uint16_t((uint32_t(region[i]) << bits::kRegionShift | bits::kHasSample) & shown);
         color[i] = words[i] & shown;
+      }
+      // The punctual highlights, recomputed for this eye (the words hold the rest of the colour):
+      // the range's highlighted pixels listed, then their words, the three records each reads (at
+      // random) prefetched 8 pixels ahead.
+      if (!highlights_.empty()) {
+        thread_local std::vector<uint32_t> listed;
+        listed.clear();
+        for (size_t i = r.begin(); i != r.end(); ++i)
+          if ((age_bins[i] & (kHighlighted | kShowsNothing)) == kHighlighted && point[i] >= 0) listed.push_back(uint32_t(i));
+        for (size_t k = 0; k < listed.size(); ++k) {
+          if (k + 8 < listed.size()) {
+            const size_t ahead = size_t(point[listed[k + 8]]);
+            __builtin_prefetch(&points_[ahead]), __builtin_prefetch(&colours_[ahead]), __builtin_prefetch(&highlights_[ahead]);
+          }
+          const size_t slot = size_t(point[listed[k]]);
+          color[listed[k]] = epi_color_word(slot, transmission_now(points_[slot]));
+        }
       }
       return;
     }

@@ -81,6 +81,14 @@ struct PointCacheSettings {
   // point's mean luminance over single_sample_error, clamped to [1/4, 4]; a single result counts as
   // that error (factor 1), so refined, converged points ask later and noisy ones sooner.
   float single_sample_error = 0.25f;
+  // Punctual highlights (docs/render.md, "Punctual highlights"): a result whose punctual lights'
+  // specular part (ShadeResult::punctual_specular) is at least this share of its colour's
+  // luminance keeps that part apart, with what recomputes it (the lights that reach the point,
+  // its shading normal, its material); the cache then shows it recomputed for the eye of each
+  // frame (Shader::punctual_specular, given by set_highlight_source) instead of as it was seen
+  // from the shading view, and ages, fades and refines only the rest of the colour. Without a
+  // source, or above 1, no result keeps it apart.
+  float punctual_highlight_share = 0.1f;
   // The straightforward implementation of project, depth_cull, cull_behind_surfaces and fill_epi
   // (point_cache_reference.cpp): the oracle the fast path matches bit for bit (tests, benchmarks).
   bool reference_path = false;
@@ -115,6 +123,14 @@ struct CachePoint {
   bool valid = false;
 };
 static_assert(sizeof(CachePoint) == 48);
+
+// What recomputes a point's punctual highlight for another eye (PointCacheSettings::
+// punctual_highlight_share; lights == 0: the point has none, its colour is all it shows).
+struct PunctualHighlight {
+  uint32_t shading_normal = 0;  // object space, octahedral 16:16 (as CachePoint::normal)
+  uint32_t lights = 0;          // ShadeResult::punctual_lights
+  uint32_t material = 0;        // Scene::materials
+};
 
 struct PointColour {
   glm::vec3 color{0.0f};  // linear RGB (the mean of `count` results)
@@ -197,6 +213,13 @@ class PointCache {
   // Writes the drawn points into the EPI as samples (colour, sub-pixel region, age); clears the rest.
   void fill_epi(EpiImage& epi) const;
 
+  // The shader whose punctual_specular recomputes the points' punctual highlights (null: none
+  // kept; PointCacheSettings::punctual_highlight_share). It must outlive the cache, or be reset.
+  void set_highlight_source(const Shader* source);
+  // A point's punctual highlight seen from the last projection's eye (zero without one).
+  glm::vec3 highlight_now(size_t slot) const;
+  const std::vector<PunctualHighlight>& highlights() const { return highlights_; }  // of points()[i]; empty: none kept
+
   // Where a point is in the world under the given object transforms (background points sit at
   // background_depth() along their direction from the frame's eye).
   glm::vec3 world_position(const CachePoint& p, const ViewFrame& frame, std::span<const glm::mat4> object_to_world) const {
@@ -247,7 +270,11 @@ class PointCache {
   // re-encodes more colours a frame; docs/render.md, "Diffuse transmission"); by_steps: encoded
   // with encode_epi_color8_by_steps
   static constexpr float kTransmissionTolerance = 0.08f;
-  uint32_t display_srgb(const CachePoint& p, const PointColour& c, float transmission_now, bool by_steps = false) const {
+  // `highlight`: a punctual highlight to add (highlight_now; its point's colour is shown through
+  // faded_srgb then, whether or not it fades).
+  uint32_t display_srgb(const CachePoint& p, const PointColour& c, float transmission_now, bool by_steps = false,
+                        const glm::vec3& highlight = glm::vec3(0.0f)) const {
+    if (highlight != glm::vec3(0.0f)) return faded_srgb(p, c, transmission_now, by_steps, highlight);
     return shows_faded(p, transmission_now) ? faded_srgb(p, c, transmission_now, by_steps) : p.srgb & 0xffffffu;
   }
   // Whether display_srgb computes the colour (faded_srgb) instead of taking srgb as stored.
@@ -256,7 +283,17 @@ class PointCache {
     const bool rescale = then > 0.0f && std::abs(transmission_now * 255.0f - then) > kTransmissionTolerance * then;
     return !(float(p.staleness) / 16.0f <= settings_.view_fade_start && !rescale);
   }
-  uint32_t faded_srgb(const CachePoint& p, const PointColour& c, float transmission_now, bool by_steps) const;
+  uint32_t faded_srgb(const CachePoint& p, const PointColour& c, float transmission_now, bool by_steps,
+                      const glm::vec3& highlight = glm::vec3(0.0f)) const;
+  // Whether slot has a punctual highlight: a bit per slot, which the projection reads for every
+  // point (the 12-byte records only for the points drawn: the stream of them cost 1.1x in the
+  // points stage of chains at 1080p).
+  bool has_highlight(size_t slot) const { return !highlight_bits_.empty() && (highlight_bits_[slot >> 6] >> (slot & 63) & 1u); }
+  void set_highlight(size_t slot, const PunctualHighlight& h) {
+    highlights_[slot] = h;
+    const uint64_t bit = uint64_t(1) << (slot & 63);
+    highlight_bits_[slot >> 6] = h.lights != 0 ? highlight_bits_[slot >> 6] | bit : highlight_bits_[slot >> 6] & ~bit;
+  }
   // The current view's diffuse transmission at p (brdf.h; 1 without a normal), from the eye of the
   // last projection: what project_batch's transmission gives the fast path's projection.
   float transmission_now(const CachePoint& p) const;
@@ -280,6 +317,7 @@ class PointCache {
   struct PreparedResult {
     CachePoint point;
     PointColour colour;
+    PunctualHighlight highlight;
     glm::vec3 world;  // where the point's surface was at the last projection
     Projection last;  // `world` in the last projection (when there is one)
     int32_t last_pixel = -1;  // the pixel `last` lands in; -1 behind the eye or outside the image
@@ -357,7 +395,7 @@ class PointCache {
   // fill_epi's colour word: display colour and priority age
   uint32_t epi_color_word(size_t slot, float transmission_now) const {
     const CachePoint& p = points_[slot];
-    return display_srgb(p, colours_[slot], transmission_now, true) | priority_bits(p);
+    return display_srgb(p, colours_[slot], transmission_now, true, highlight_now(slot)) | priority_bits(p);
   }
   uint32_t priority_bits(const CachePoint& p) const {  // the colour word's age byte
     return uint32_t(std::min<int>(priority_age(p, stored_terms(p)), 255)) << bits::kAgeShift;
@@ -398,6 +436,9 @@ class PointCache {
   PointCacheSettings settings_;
   std::vector<CachePoint> points_;
   std::vector<PointColour> colours_;
+  const Shader* highlight_source_ = nullptr;
+  std::vector<PunctualHighlight> highlights_;  // of points_[i] while a source is set
+  std::vector<uint64_t> highlight_bits_;       // bit i: highlights_[i].lights != 0
   std::vector<uint32_t> free_slots_;
   size_t valid_points_ = 0;
   size_t cursor_ = 0;
@@ -446,6 +487,7 @@ class PointCache {
   std::vector<uint32_t> seeded_at_;
   uint32_t projections_ = 0;
   std::vector<glm::mat3> normal_to_world_;  // cull_behind_surfaces' normal matrices
+  std::vector<glm::mat3> highlight_normals_;  // the same for highlight_now, made by project while highlights are kept
   std::vector<uint8_t> hidden_;             // ... and the reference path's verdicts
   std::vector<glm::vec3> eye_local_;        // the eye in each object's space (project)
   std::vector<glm::mat4> to_object_;  // insert: inverse object transforms

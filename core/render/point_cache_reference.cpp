@@ -185,7 +185,8 @@ void PointCache::fill_epi_reference(EpiImage& epi) const {
         continue;
       }
       epi.edge[i] = uint16_t(uint16_t(image_.region[i]) << bits::kRegionShift | bits::kHasSample);
-      epi.color[i] = display_srgb(point, colour, transmission_now(point)) | uint32_t(std::min<int>(priority_age(point, terms), 255)) << bits::kAgeShift;
+      epi.color[i] = display_srgb(point, colour, transmission_now(point), false, highlight_now(size_t(p))) |
+                     uint32_t(std::min<int>(priority_age(point, terms), 255)) << bits::kAgeShift;
     }
   });
 }

@@ -57,6 +57,10 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
   for (uint32_t o = 0; o < scene.objects.size(); ++o) transforms_.push_back(ray_scene.object_to_world(o));
   for (const PunctualLight& l : ray_scene.punctual_lights()) light_positions_.push_back(l.position);
   placement_ = std::make_shared<const PlacementState>(PlacementState{transforms_, light_positions_});
+  // Punctual highlights recomputed for each frame's eye (epi mode; docs/render.md, "Punctual highlights").
+  if (settings.mode == RenderMode::epi && shader.settings().specular && !ray_scene.punctual_lights().empty() &&
+      settings.cache.punctual_highlight_share <= 1.0f)
+    cache_.set_highlight_source(&shader_);
   if (const auto edge_settings = edge_finder_settings(settings)) {
     if (edge_finder && !(edge_finder->settings() == *edge_settings))
       throw std::invalid_argument("frame renderer: the edge finder given was built with other settings");

@@ -57,7 +57,8 @@ bool same_frame_settings(const FrameSettings& a, const FrameSettings& b) {
          a.occlusion_culling == b.occlusion_culling && a.occlusion_test == b.occlusion_test && a.fill_holes == b.fill_holes &&
          a.sparse_blend == b.sparse_blend &&
          a.cache.sparse_occlusion_radius == b.cache.sparse_occlusion_radius &&
-         a.cache.new_occluder_radius == b.cache.new_occluder_radius && a.trace_ahead == b.trace_ahead;
+         a.cache.new_occluder_radius == b.cache.new_occluder_radius &&
+         a.cache.punctual_highlight_share == b.cache.punctual_highlight_share && a.trace_ahead == b.trace_ahead;
 }
 
 View make_view(const Camera& camera, int width, int height) {

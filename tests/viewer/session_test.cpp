@@ -163,6 +163,10 @@ TEST(Session, AHeldShaderNeverStallsTheFrames) {
   {
     Session session(scene, in);
     ASSERT_TRUE(session.wait_for_frame(3, 60s));
+    // The shader holds once its thread has taken the first requests (on a loaded machine that
+    // thread may start after the first frames: the check below failed once in a full parallel run).
+    for (const auto deadline = std::chrono::steady_clock::now() + 30s; entered.load() < 1 && std::chrono::steady_clock::now() < deadline;)
+      std::this_thread::sleep_for(1ms);
     const uint64_t before = session.frames();
     // Frames keep coming, and reflect new input, while the shader returns nothing.
     in.camera.eye.x += 0.3f;
