@@ -78,7 +78,8 @@ double mean(const std::vector<double>& v) {
 }
 
 // The frame loop's memory per pixel (point cache, edge-and-point image, masks, priority, images):
-// ~139 bytes measured as the peak RSS of `epi render --size 2048x2048` less 512x512 (Cornell box).
+// ~139 bytes measured as the peak RSS of `epi render --size 2048x2048` less 512x512 (Cornell box);
+// scenes with punctual lights keep 14 more for the punctual highlights (docs/performance.md).
 constexpr double kFrameLoopBytesPerPixel = 160.0;
 
 // The path: a file, else a still camera from --eye/--target/..., else the scene's own path.
