@@ -1244,8 +1244,9 @@ uint32_t PointCache::faded_srgb(const CachePoint& p, const PointColour& c, float
   return by_steps ? pack_srgb_by_steps(shown, shown_view) : pack_srgb(shown, shown_view);
 }
 
-void PointCache::set_highlight_source(const Shader* source) {
-  highlight_source_ = source;
+void PointCache::set_highlight_source(const Shader* source, const std::vector<PunctualLight>* lights) {
+  if (source && !lights) throw std::invalid_argument("point cache: a highlight source needs its lights");
+  highlight_source_ = source, highlight_lights_ = lights;
   if (source) highlights_.assign(points_.size(), PunctualHighlight{}), highlight_bits_.assign((points_.size() + 63) / 64, 0);
   else highlights_.clear(), highlight_bits_.clear(), highlight_normals_.clear();
 }
@@ -1259,7 +1260,7 @@ glm::vec3 PointCache::highlight_now(size_t slot) const {
   const PunctualSurface surface{glm::vec3(last_transforms_[p.object] * glm::vec4(p.local, 1.0f)),
                                 glm::normalize(to_world * unpack_unit(h.shading_normal)),
                                 glm::normalize(to_world * unpack_unit(p.normal)), h.material, h.lights};
-  return highlight_source_->punctual_specular(surface, last_frame_->eye());
+  return highlight_source_->punctual_specular(surface, last_frame_->eye(), *highlight_lights_);
 }
 
 float PointCache::transmission_now(const CachePoint& p) const {

@@ -214,8 +214,11 @@ class PointCache {
   void fill_epi(EpiImage& epi) const;
 
   // The shader whose punctual_specular recomputes the points' punctual highlights (null: none
-  // kept; PointCacheSettings::punctual_highlight_share). It must outlive the cache, or be reset.
-  void set_highlight_source(const Shader* source);
+  // kept; PointCacheSettings::punctual_highlight_share), and the punctual lights it places them
+  // with, read when the EPI is filled (the caller moves them as the frame's placement moves them;
+  // not the shader's ray scene, which the asynchronous shader's thread updates). Both must
+  // outlive the cache, or be reset.
+  void set_highlight_source(const Shader* source, const std::vector<PunctualLight>* lights);
   // A point's punctual highlight seen from the last projection's eye (zero without one).
   glm::vec3 highlight_now(size_t slot) const;
   const std::vector<PunctualHighlight>& highlights() const { return highlights_; }  // of points()[i]; empty: none kept
@@ -437,6 +440,7 @@ class PointCache {
   std::vector<CachePoint> points_;
   std::vector<PointColour> colours_;
   const Shader* highlight_source_ = nullptr;
+  const std::vector<PunctualLight>* highlight_lights_ = nullptr;
   std::vector<PunctualHighlight> highlights_;  // of points_[i] while a source is set
   std::vector<uint64_t> highlight_bits_;       // bit i: highlights_[i].lights != 0
   std::vector<uint32_t> free_slots_;

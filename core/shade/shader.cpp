@@ -490,7 +490,7 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
   return result;
 }
 
-glm::vec3 Shader::punctual_specular(const PunctualSurface& s, const glm::vec3& eye) const {
+glm::vec3 Shader::punctual_specular(const PunctualSurface& s, const glm::vec3& eye, std::span<const PunctualLight> lights) const {
   const Scene& scene = scene_.scene();
   if (s.lights == 0 || s.material >= scene.materials.size() || !settings_.specular) return glm::vec3(0.0f);
   const BrdfParams brdf = BrdfParams::from(scene.materials[s.material], true);
@@ -498,7 +498,6 @@ glm::vec3 Shader::punctual_specular(const PunctualSurface& s, const glm::vec3& e
   // As Tracer::surface chooses it: the interpolated normal where it faces the eye.
   const glm::vec3& n = glm::dot(s.shading_normal, wo) > 0.0f ? s.shading_normal : s.geometric_normal;
   glm::vec3 sum(0.0f);
-  const std::vector<PunctualLight>& lights = scene_.punctual_lights();
   for (uint32_t i = 0; i < std::min<size_t>(lights.size(), 32); ++i) {
     glm::vec3 wi, incoming;
     if (!(s.lights >> i & 1u) || !punctual_incoming(lights[i], s.position, wi, incoming)) continue;

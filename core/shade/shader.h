@@ -101,10 +101,12 @@ class Shader {
   ShadeResult shade_one(const ViewFrame& frame, const ShadeRequest& request, std::vector<BlockerTriple>& triples,
                         uint64_t& rays) const;
 
-  // The specular reflection towards `eye` of the punctual lights in s.lights, with the lights as
-  // they are now: shade_one's arithmetic for those lights (ShadeResult::punctual_specular when
-  // eye is the shading view's and nothing moved), without shadow rays.
-  glm::vec3 punctual_specular(const PunctualSurface& s, const glm::vec3& eye) const;
+  // The specular reflection towards `eye` of the punctual lights in s.lights, placed as in `lights`
+  // (the scene's punctual lights, as the caller has them now: in the asynchronous loop the ray
+  // scene's belong to the shading thread): shade_one's arithmetic for those lights
+  // (ShadeResult::punctual_specular when eye is the shading view's and nothing moved), without
+  // shadow rays.
+  glm::vec3 punctual_specular(const PunctualSurface& s, const glm::vec3& eye, std::span<const PunctualLight> lights) const;
 
   const ShaderSettings& settings() const { return settings_; }
   const RayScene& ray_scene() const { return scene_; }

@@ -51,7 +51,7 @@ Shown shown_from(const Shader& shader, const ViewFrame& shot, const ViewFrame& n
   settings.punctual_highlight_share = highlight_share;
   settings.reference_path = reference_path;
   PointCache cache(kSize, kSize, settings);
-  cache.set_highlight_source(&shader);
+  cache.set_highlight_source(&shader, &shader.ray_scene().punctual_lights());
   cache.insert(shot, shade_all(shader, shot), transforms);
   cache.project(now, transforms, false);
   EpiImage epi(kSize, kSize);
