@@ -289,8 +289,7 @@ class PointCache {
   uint32_t faded_srgb(const CachePoint& p, const PointColour& c, float transmission_now, bool by_steps,
                       const glm::vec3& highlight = glm::vec3(0.0f)) const;
   // Whether slot has a punctual highlight: a bit per slot, which the projection reads for every
-  // point (the 12-byte records only for the points drawn: the stream of them cost 1.1x in the
-  // points stage of chains at 1080p).
+  // point (fill_epi reads the 12-byte records of the drawn ones only).
   bool has_highlight(size_t slot) const { return !highlight_bits_.empty() && (highlight_bits_[slot >> 6] >> (slot & 63) & 1u); }
   void set_highlight(size_t slot, const PunctualHighlight& h) {
     highlights_[slot] = h;
