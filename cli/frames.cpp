@@ -158,7 +158,7 @@ int run_render_frames(const RenderOptions& options) {
   settings.seed = options.seed;
   settings.soft_shadow_edges = options.soft_shadow_edges;
   settings.sparse_blend = options.sparse_blend;
-  if (!options.punctual_highlights) settings.cache.punctual_highlight_share = 2.0f;
+  if (!options.punctual_highlights) settings.cache.punctual_highlight_share = render::PointCacheSettings::kNoPunctualHighlights;
   settings.trace_ahead = options.trace_ahead;
   settings.rest_sample_budget = options.rest_sample_budget;
   if (options.sparse_occlusion_radius) settings.cache.sparse_occlusion_radius = *options.sparse_occlusion_radius;

@@ -142,7 +142,7 @@ class Viewer {
     s.frame.seed = options.render.seed;
     s.frame.soft_shadow_edges = options.render.soft_shadow_edges;
     s.frame.sparse_blend = options.render.sparse_blend;
-    if (!options.render.punctual_highlights) s.frame.cache.punctual_highlight_share = 2.0f;
+    if (!options.render.punctual_highlights) s.frame.cache.punctual_highlight_share = render::PointCacheSettings::kNoPunctualHighlights;
     s.frame.trace_ahead = options.render.trace_ahead;
     s.frame.rest_sample_budget = options.render.rest_sample_budget;
     if (options.render.sparse_occlusion_radius) s.frame.cache.sparse_occlusion_radius = *options.render.sparse_occlusion_radius;
@@ -909,9 +909,9 @@ void Viewer::draw_panel() {
   ImGui::Checkbox("fill holes", &s.frame.fill_holes);
   ImGui::Checkbox("smooth sparse regions", &s.frame.sparse_blend);
   ImGui::SameLine();
-  bool highlights = s.frame.cache.punctual_highlight_share <= 1.0f;
+  bool highlights = s.frame.cache.punctual_highlights();
   if (ImGui::Checkbox("punctual highlights", &highlights))
-    s.frame.cache.punctual_highlight_share = highlights ? render::PointCacheSettings{}.punctual_highlight_share : 2.0f;
+    s.frame.cache.punctual_highlight_share = highlights ? render::PointCacheSettings{}.punctual_highlight_share : render::PointCacheSettings::kNoPunctualHighlights;
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("point and spot lights' highlights recomputed for every frame's eye, not shown as shaded");
   ImGui::Checkbox("sync", &s.frame.sync);

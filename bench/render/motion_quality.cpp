@@ -149,7 +149,7 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
   s.mode = mode, s.width = o.size, s.height = o.size, s.sync = true, s.sample_budget = o.budget, s.seed = o.seed;
   s.sync_as_async = o.as_async;
   s.trace_ahead = o.trace_ahead;
-  if (!o.punctual_highlights) s.cache.punctual_highlight_share = 2.0f;
+  if (!o.punctual_highlights) s.cache.punctual_highlight_share = PointCacheSettings::kNoPunctualHighlights;
   if (o.occlusion_radius >= 0) s.cache.occlusion_radius = o.occlusion_radius;
   if (o.sparse_occlusion_radius >= 0) s.cache.sparse_occlusion_radius = o.sparse_occlusion_radius;
   if (o.new_occluder_radius >= 0) s.cache.new_occluder_radius = o.new_occluder_radius;

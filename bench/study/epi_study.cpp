@@ -120,7 +120,7 @@ std::vector<Setting> all_settings() {
   s.push_back({"edges", "silhouettes", [](Config& c) { c.frame.sharp_border_edges = false, c.frame.shadow_edges = false; }});
   s.push_back({"edges", "+sharp+border", [](Config& c) { c.frame.shadow_edges = false; }});
   s.push_back({"edges", "+hard+soft shadows", [](Config& c) { c.frame.soft_shadow_edges = true; }});
-  s.push_back({"punctual_highlights", "off", [](Config& c) { c.frame.cache.punctual_highlight_share = 2.0f; }});
+  s.push_back({"punctual_highlights", "off", [](Config& c) { c.frame.cache.punctual_highlight_share = render::PointCacheSettings::kNoPunctualHighlights; }});
   s.push_back({"edge_finder", "tree", [](Config& c) { c.frame.edge_finder.force = 1; }});
   s.push_back({"edge_finder", "brute force", [](Config& c) { c.frame.edge_finder.force = -1; }});
   for (int level : {1, 2, 3})

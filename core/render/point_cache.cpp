@@ -218,8 +218,10 @@ ProjectionCounts PointCache::project(const ViewFrame& frame, std::span<const glm
   std::erase_if(recent_occluders_, [&](const std::pair<uint32_t, uint32_t>& e) {
     return seeded_at_[e.first] != e.second || !new_occluder(e.first);
   });
-  highlight_normals_.resize(highlights_.empty() ? 0 : object_to_world.size());
-  for (size_t o = 0; o < highlight_normals_.size(); ++o) highlight_normals_[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
+  // Normals back to world space, for this frame's occlusion test and highlights: the inverse
+  // transpose of each object's matrix.
+  normal_to_world_.resize(object_to_world.size());
+  for (size_t o = 0; o < object_to_world.size(); ++o) normal_to_world_[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
   if (settings_.reference_path) return project_reference(frame, object_to_world, depth_cull);
   const int w = image_.width, h = image_.height;
   if (frame.view().width != w || frame.view().height != h)
@@ -1001,9 +1003,6 @@ size_t PointCache::cull_behind_surfaces(const ViewFrame& frame, std::span<const 
   if (settings_.reference_path) return cull_behind_surfaces_reference(frame, object_to_world, crossings);
   const int radius = std::max(1, settings_.occlusion_radius);
   const float scale = 1.0f + settings_.occlusion_margin;
-  // Normals back to world space: the inverse transpose of each object's matrix.
-  normal_to_world_.resize(object_to_world.size());
-  for (size_t o = 0; o < object_to_world.size(); ++o) normal_to_world_[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
   // The nearest depth in each pixel's window: a pixel with no neighbour nearer by the margin
   // (most of them) is skipped without looking at its neighbours. Farther than the dense radius,
   // only the points that stand alone count: the least depth of those over the sparse radius.
@@ -1248,15 +1247,15 @@ void PointCache::set_highlight_source(const Shader* source, const std::vector<Pu
   if (source && !lights) throw std::invalid_argument("point cache: a highlight source needs its lights");
   highlight_source_ = source, highlight_lights_ = lights;
   if (source) highlights_.assign(points_.size(), PunctualHighlight{}), highlight_bits_.assign((points_.size() + 63) / 64, 0);
-  else highlights_.clear(), highlight_bits_.clear(), highlight_normals_.clear();
+  else highlights_.clear(), highlight_bits_.clear();
 }
 
 glm::vec3 PointCache::highlight_now(size_t slot) const {
   if (!has_highlight(slot) || !last_frame_) return glm::vec3(0.0f);
   const CachePoint& p = points_[slot];
-  if (p.object >= last_transforms_.size() || p.object >= highlight_normals_.size()) return glm::vec3(0.0f);
+  if (p.object >= last_transforms_.size() || p.object >= normal_to_world_.size()) return glm::vec3(0.0f);
   const PunctualHighlight& h = highlights_[slot];
-  const glm::mat3& to_world = highlight_normals_[p.object];
+  const glm::mat3& to_world = normal_to_world_[p.object];
   const PunctualSurface surface{glm::vec3(last_transforms_[p.object] * glm::vec4(p.local, 1.0f)),
                                 glm::normalize(to_world * unpack_unit(h.shading_normal)),
                                 glm::normalize(to_world * unpack_unit(p.normal)), h.material, h.lights};

@@ -87,8 +87,10 @@ struct PointCacheSettings {
   // its shading normal, its material); the cache then shows it recomputed for the eye of each
   // frame (Shader::punctual_specular, given by set_highlight_source) instead of as it was seen
   // from the shading view, and ages, fades and refines only the rest of the colour. Without a
-  // source, or above 1, no result keeps it apart.
+  // source, or above 1 (kNoPunctualHighlights), no result keeps it apart.
   float punctual_highlight_share = 0.1f;
+  static constexpr float kNoPunctualHighlights = 2.0f;
+  bool punctual_highlights() const { return punctual_highlight_share <= 1.0f; }
   // The straightforward implementation of project, depth_cull, cull_behind_surfaces and fill_epi
   // (point_cache_reference.cpp): the oracle the fast path matches bit for bit (tests, benchmarks).
   bool reference_path = false;
@@ -489,8 +491,7 @@ class PointCache {
   // drawn at its pixel (a new occluder), 0 for other results; projections_ counts projections.
   std::vector<uint32_t> seeded_at_;
   uint32_t projections_ = 0;
-  std::vector<glm::mat3> normal_to_world_;  // cull_behind_surfaces' normal matrices
-  std::vector<glm::mat3> highlight_normals_;  // the same for highlight_now, made by project while highlights are kept
+  std::vector<glm::mat3> normal_to_world_;  // of the last projection's objects (project): the occlusion test's and highlight_now's
   std::vector<uint8_t> hidden_;             // ... and the reference path's verdicts
   std::vector<glm::vec3> eye_local_;        // the eye in each object's space (project)
   std::vector<glm::mat4> to_object_;  // insert: inverse object transforms

@@ -142,9 +142,6 @@ size_t PointCache::depth_cull_reference(std::span<const uint8_t> edge_pixels) {
 size_t PointCache::cull_behind_surfaces_reference(const ViewFrame& frame, std::span<const glm::mat4> object_to_world,
                                         const EdgeCrossings& crossings) {
   const int w = image_.width, h = image_.height;
-  // Normals back to world space: the inverse transpose of each object's matrix.
-  normal_to_world_.resize(object_to_world.size());
-  for (size_t o = 0; o < object_to_world.size(); ++o) normal_to_world_[o] = glm::inverse(glm::transpose(glm::mat3(object_to_world[o])));
   hidden_.assign(image_.point.size(), 0);
   mark_alone();
   const size_t removed = tbb::parallel_reduce(

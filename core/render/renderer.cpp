@@ -59,7 +59,7 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
   placement_ = std::make_shared<const PlacementState>(PlacementState{transforms_, light_positions_});
   // Punctual highlights recomputed for each frame's eye (epi mode; docs/render.md, "Punctual highlights").
   if (settings.mode == RenderMode::epi && shader.settings().specular && !ray_scene.punctual_lights().empty() &&
-      settings.cache.punctual_highlight_share <= 1.0f)
+      settings.cache.punctual_highlights())
     cache_.set_highlight_source(&shader_, &frame_lights_);
   if (const auto edge_settings = edge_finder_settings(settings)) {
     if (edge_finder && !(edge_finder->settings() == *edge_settings))

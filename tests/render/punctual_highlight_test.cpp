@@ -100,7 +100,7 @@ TEST(PunctualHighlights, AMetalSeenFromANewViewShowsTheNewViewsHighlight) {
     EXPECT_GT(kept.close, kept.drawn * 95 / 100) << reference_path;  // and they show the new view's colour
   }
   // Without: the stale highlights are dropped from the EPI (metal: mostly view-dependent).
-  const Shown stale = shown_from(shader, shot, now, 2.0f);
+  const Shown stale = shown_from(shader, shot, now, PointCacheSettings::kNoPunctualHighlights);
   EXPECT_LT(stale.sampled, stale.drawn / 3) << stale.close;
   // From the shading view itself both show what was shaded.
   const Shown same = shown_from(shader, shot, shot, 0.1f);
