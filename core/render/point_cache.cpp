@@ -627,7 +627,7 @@ void PointCache::prepare_result(const ViewFrame& shot, const ShadeResult& r, std
   // A punctual highlight kept apart: the colour keeps the rest.
   out.highlight = PunctualHighlight{};
   const float highlight = luminance(r.punctual_specular);
-  if (highlight_source_ && r.hit && r.object < object_to_world.size() && r.punctual_lights != 0 && highlight > 0.0f &&
+  if (highlight_model_ && r.hit && r.object < object_to_world.size() && r.punctual_lights != 0 && highlight > 0.0f &&
       highlight >= settings_.punctual_highlight_share * luminance(colour.color)) {
     colour.color = glm::max(colour.color - r.punctual_specular, glm::vec3(0.0f));
     colour.view_dependent = glm::clamp(colour.view_dependent - r.punctual_specular, glm::vec3(0.0f), colour.color);
@@ -1243,10 +1243,9 @@ uint32_t PointCache::faded_srgb(const CachePoint& p, const PointColour& c, float
   return by_steps ? pack_srgb_by_steps(shown, shown_view) : pack_srgb(shown, shown_view);
 }
 
-void PointCache::set_highlight_source(const Shader* source, const std::vector<PunctualLight>* lights) {
-  if (source && !lights) throw std::invalid_argument("point cache: a highlight source needs its lights");
-  highlight_source_ = source, highlight_lights_ = lights;
-  if (source) highlights_.assign(points_.size(), PunctualHighlight{}), highlight_bits_.assign((points_.size() + 63) / 64, 0);
+void PointCache::set_highlight_model(std::optional<PunctualSpecularModel> model) {
+  highlight_model_ = std::move(model);
+  if (highlight_model_) highlights_.assign(points_.size(), PunctualHighlight{}), highlight_bits_.assign((points_.size() + 63) / 64, 0);
   else highlights_.clear(), highlight_bits_.clear();
 }
 
@@ -1259,7 +1258,11 @@ glm::vec3 PointCache::highlight_now(size_t slot) const {
   const PunctualSurface surface{glm::vec3(last_transforms_[p.object] * glm::vec4(p.local, 1.0f)),
                                 glm::normalize(to_world * unpack_unit(h.shading_normal)),
                                 glm::normalize(to_world * unpack_unit(p.normal)), h.material, h.lights};
-  return highlight_source_->punctual_specular(surface, last_frame_->eye(), *highlight_lights_);
+  return highlight_model_->specular(surface, last_frame_->eye());
+}
+
+void PointCache::move_highlight_light(size_t light, const glm::vec3& position) {
+  if (highlight_model_ && light < highlight_model_->lights.size()) highlight_model_->lights[light].position = position;
 }
 
 float PointCache::transmission_now(const CachePoint& p) const {

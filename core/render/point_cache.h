@@ -85,9 +85,9 @@ struct PointCacheSettings {
   // specular part (ShadeResult::punctual_specular) is at least this share of its colour's
   // luminance keeps that part apart, with what recomputes it (the lights that reach the point,
   // its shading normal, its material); the cache then shows it recomputed for the eye of each
-  // frame (Shader::punctual_specular, given by set_highlight_source) instead of as it was seen
+  // frame (PunctualSpecularModel, given by set_highlight_model) instead of as it was seen
   // from the shading view, and ages, fades and refines only the rest of the colour. Without a
-  // source, or above 1 (kNoPunctualHighlights), no result keeps it apart.
+  // model, or above 1 (kNoPunctualHighlights), no result keeps it apart.
   float punctual_highlight_share = 0.1f;
   static constexpr float kNoPunctualHighlights = 2.0f;
   bool punctual_highlights() const { return punctual_highlight_share <= 1.0f; }
@@ -215,12 +215,11 @@ class PointCache {
   // Writes the drawn points into the EPI as samples (colour, sub-pixel region, age); clears the rest.
   void fill_epi(EpiImage& epi) const;
 
-  // The shader whose punctual_specular recomputes the points' punctual highlights (null: none
-  // kept; PointCacheSettings::punctual_highlight_share), and the punctual lights it places them
-  // with, read when the EPI is filled (the caller moves them as the frame's placement moves them;
-  // not the shader's ray scene, which the asynchronous shader's thread updates). Both must
-  // outlive the cache, or be reset.
-  void set_highlight_source(const Shader* source, const std::vector<PunctualLight>* lights);
+  // What recomputes the points' punctual highlights (Shader::punctual_specular_model; none: none
+  // kept, PointCacheSettings::punctual_highlight_share), read when the EPI is filled. The cache
+  // owns it; the caller moves its lights as the frame's placement moves them.
+  void set_highlight_model(std::optional<PunctualSpecularModel> model);
+  void move_highlight_light(size_t light, const glm::vec3& position);
   // A point's punctual highlight seen from the last projection's eye (zero without one).
   glm::vec3 highlight_now(size_t slot) const;
   const std::vector<PunctualHighlight>& highlights() const { return highlights_; }  // of points()[i]; empty: none kept
@@ -440,9 +439,8 @@ class PointCache {
   PointCacheSettings settings_;
   std::vector<CachePoint> points_;
   std::vector<PointColour> colours_;
-  const Shader* highlight_source_ = nullptr;
-  const std::vector<PunctualLight>* highlight_lights_ = nullptr;
-  std::vector<PunctualHighlight> highlights_;  // of points_[i] while a source is set
+  std::optional<PunctualSpecularModel> highlight_model_;
+  std::vector<PunctualHighlight> highlights_;  // of points_[i] while a model is set
   std::vector<uint64_t> highlight_bits_;       // bit i: highlights_[i].lights != 0
   std::vector<uint32_t> free_slots_;
   size_t valid_points_ = 0;

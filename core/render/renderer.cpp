@@ -55,12 +55,12 @@ FrameRenderer::FrameRenderer(const Scene& scene, RayScene& ray_scene, const Shad
     throw std::invalid_argument("sample budget " + std::to_string(settings.sample_budget) + " is not in (0, 1]");
   transforms_.reserve(scene.objects.size());
   for (uint32_t o = 0; o < scene.objects.size(); ++o) transforms_.push_back(ray_scene.object_to_world(o));
-  for (const PunctualLight& l : ray_scene.punctual_lights()) light_positions_.push_back(l.position), frame_lights_.push_back(l);
+  for (const PunctualLight& l : ray_scene.punctual_lights()) light_positions_.push_back(l.position);
   placement_ = std::make_shared<const PlacementState>(PlacementState{transforms_, light_positions_});
   // Punctual highlights recomputed for each frame's eye (epi mode; docs/render.md, "Punctual highlights").
   if (settings.mode == RenderMode::epi && shader.settings().specular && !ray_scene.punctual_lights().empty() &&
       settings.cache.punctual_highlights())
-    cache_.set_highlight_source(&shader_, &frame_lights_);
+    cache_.set_highlight_model(shader.punctual_specular_model());
   if (const auto edge_settings = edge_finder_settings(settings)) {
     if (edge_finder && !(edge_finder->settings() == *edge_settings))
       throw std::invalid_argument("frame renderer: the edge finder given was built with other settings");
@@ -103,7 +103,7 @@ void FrameRenderer::apply_placement(std::span<const glm::mat4> object_to_world, 
   std::vector<std::pair<uint32_t, glm::vec3>> light_moves;  // directional lights have no position: ignored
   for (uint32_t l = 0; l < light_positions.size(); ++l)
     if (scene_.punctual_lights[l].type != LightType::directional && light_positions[l] != light_positions_[l])
-      light_moves.push_back({l, light_positions[l]}), light_positions_[l] = frame_lights_[l].position = light_positions[l];
+      light_moves.push_back({l, light_positions[l]}), light_positions_[l] = light_positions[l], cache_.move_highlight_light(l, light_positions[l]);
   if (moves.empty() && light_moves.empty()) return;
   // Shots submitted from now on record the new placement; earlier ones keep theirs, and their
   // results are placed with it (the hit was there), so they then move with their object. A moved

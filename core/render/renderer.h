@@ -213,7 +213,6 @@ class FrameRenderer {
   Reconstruction reconstruction_;
   std::vector<glm::mat4> transforms_;
   std::vector<glm::vec3> light_positions_;  // per punctual light, as placed now
-  std::vector<PunctualLight> frame_lights_;  // the scene's punctual lights at light_positions_ (the cache's highlights)
   std::deque<Shot> shots_;
   std::vector<NewShot> sync_shots_;  // sync_as_async: chosen at the end of a frame, shaded at the start of the next
   Placement placement_;  // a snapshot of transforms_ and light_positions_, renewed when something moves

@@ -490,10 +490,17 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
   return result;
 }
 
-glm::vec3 Shader::punctual_specular(const PunctualSurface& s, const glm::vec3& eye, std::span<const PunctualLight> lights) const {
-  const Scene& scene = scene_.scene();
-  if (s.lights == 0 || s.material >= scene.materials.size() || !settings_.specular) return glm::vec3(0.0f);
-  const BrdfParams brdf = BrdfParams::from(scene.materials[s.material], true);
+PunctualSpecularModel Shader::punctual_specular_model() const {
+  PunctualSpecularModel model;
+  if (settings_.specular)
+    for (const Material& m : scene_.scene().materials) model.materials.push_back(BrdfParams::from(m, true));
+  model.lights = scene_.punctual_lights();
+  return model;
+}
+
+glm::vec3 PunctualSpecularModel::specular(const PunctualSurface& s, const glm::vec3& eye) const {
+  if (s.lights == 0 || s.material >= materials.size()) return glm::vec3(0.0f);
+  const BrdfParams& brdf = materials[s.material];
   const glm::vec3 wo = glm::normalize(eye - s.position);
   // As Tracer::surface chooses it: the interpolated normal where it faces the eye.
   const glm::vec3& n = glm::dot(s.shading_normal, wo) > 0.0f ? s.shading_normal : s.geometric_normal;

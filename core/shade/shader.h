@@ -8,6 +8,7 @@
 #include <span>
 #include <vector>
 
+#include "shade/brdf.h"
 #include "shade/ray_scene.h"
 #include "shade/view.h"
 
@@ -64,7 +65,7 @@ struct ShadeResult {
   uint32_t triple_begin = 0;  // into ShadeBatch::triples
   uint32_t triple_count = 0;
   // Of view_dependent, the specular reflection of punctual lights 0-31 at the hit, and what
-  // Shader::punctual_specular recomputes it from for another eye (docs/render.md, "Punctual
+  // PunctualSpecularModel recomputes it from for another eye (docs/render.md, "Punctual
   // highlights"): the lights that reach the hit (bit i: light i is unblocked, in its range and
   // cone, and lights the hit's front), the shading normal (world space, facing the ray) and the
   // material (Scene::materials).
@@ -74,11 +75,26 @@ struct ShadeResult {
   uint32_t material = kNone;
 };
 
-// A surface point as Shader::punctual_specular sees it (world space; ShadeResult's fields).
+// A surface point as PunctualSpecularModel sees it (world space; ShadeResult's fields).
 struct PunctualSurface {
   glm::vec3 position{0.0f}, shading_normal{0.0f}, geometric_normal{0.0f};
   uint32_t material = kNone;
   uint32_t lights = 0;
+};
+
+// What recomputes a result's punctual specular for another eye without rays (docs/render.md,
+// "Punctual highlights"): the materials' lobes and the punctual lights, copied from the shader so
+// that whoever keeps it (the point cache) owns it. The lights are the scene's as the keeper has
+// them now (in the asynchronous loop the ray scene's belong to the shading thread): a keeper moves
+// them with `lights[i].position`.
+struct PunctualSpecularModel {
+  std::vector<BrdfParams> materials;  // of Scene::materials, as shading evaluates them
+  std::vector<PunctualLight> lights;  // the scene's punctual lights
+
+  // The specular reflection towards `eye` of the lights in s.lights: shade_one's arithmetic for
+  // those lights (ShadeResult::punctual_specular when eye is the shading view's and nothing
+  // moved), without shadow rays.
+  glm::vec3 specular(const PunctualSurface& s, const glm::vec3& eye) const;
 };
 
 struct ShadeBatch {
@@ -101,12 +117,9 @@ class Shader {
   ShadeResult shade_one(const ViewFrame& frame, const ShadeRequest& request, std::vector<BlockerTriple>& triples,
                         uint64_t& rays) const;
 
-  // The specular reflection towards `eye` of the punctual lights in s.lights, placed as in `lights`
-  // (the scene's punctual lights, as the caller has them now: in the asynchronous loop the ray
-  // scene's belong to the shading thread): shade_one's arithmetic for those lights
-  // (ShadeResult::punctual_specular when eye is the shading view's and nothing moved), without
-  // shadow rays.
-  glm::vec3 punctual_specular(const PunctualSurface& s, const glm::vec3& eye, std::span<const PunctualLight> lights) const;
+  // This shader's punctual specular model, with the ray scene's lights where they are now (call it
+  // on the thread that owns the ray scene); no materials when the shader has no specular lobes.
+  PunctualSpecularModel punctual_specular_model() const;
 
   const ShaderSettings& settings() const { return settings_; }
   const RayScene& ray_scene() const { return scene_; }

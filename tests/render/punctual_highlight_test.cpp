@@ -3,6 +3,7 @@
 // seen from another shows what the shader computes from the new view, instead of a stale highlight
 // faded out and dropped.
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -51,7 +52,7 @@ Shown shown_from(const Shader& shader, const ViewFrame& shot, const ViewFrame& n
   settings.punctual_highlight_share = highlight_share;
   settings.reference_path = reference_path;
   PointCache cache(kSize, kSize, settings);
-  cache.set_highlight_source(&shader, &shader.ray_scene().punctual_lights());
+  cache.set_highlight_model(shader.punctual_specular_model());
   cache.insert(shot, shade_all(shader, shot), transforms);
   cache.project(now, transforms, false);
   EpiImage epi(kSize, kSize);
@@ -105,6 +106,44 @@ TEST(PunctualHighlights, AMetalSeenFromANewViewShowsTheNewViewsHighlight) {
   // From the shading view itself both show what was shaded.
   const Shown same = shown_from(shader, shot, shot, 0.1f);
   EXPECT_GT(same.close, same.drawn * 98 / 100);
+}
+
+// The cache owns what recomputes its highlights: a copy still shows them after the shader and its
+// ray scene are gone (render_points_bench copies a renderer's cache and drops the renderer: it
+// crashed when the cache pointed at the shader), and moving a light in one copy leaves the other.
+TEST(PunctualHighlights, ACopyOfTheCacheOwnsWhatRecomputesItsHighlights) {
+  const Scene scene = metal_scene();
+  const std::vector<glm::mat4> transforms(2, glm::mat4(1.0f));
+  const ViewFrame shot(View{test::look({5, -1, 2.5f}, {0, 0, 1}), kSize, kSize});
+  const ViewFrame now(View{test::look({4, 3, 3}, {0, 0, 1}), kSize, kSize});
+  auto filled = [&](PointCache cache) {  // a copy: projecting ages the points
+    cache.project(now, transforms, false);
+    EpiImage epi(kSize, kSize);
+    cache.fill_epi(epi);
+    return epi.color;
+  };
+  std::optional<PointCache> copy;
+  std::vector<uint32_t> expected;
+  {
+    RayScene rays(scene);
+    const Shader shader(rays, ShaderSettings{});
+    PointCache cache(kSize, kSize, PointCacheSettings{});
+    cache.set_highlight_model(shader.punctual_specular_model());
+    cache.insert(shot, shade_all(shader, shot), transforms);
+    copy.emplace(cache);
+    expected = filled(cache);
+  }
+  int highlighted = 0;
+  for (const PunctualHighlight& h : copy->highlights()) highlighted += h.lights != 0;
+  ASSERT_GT(highlighted, 100);
+  PointCache moved(*copy);
+  EXPECT_EQ(filled(*copy), expected);
+  moved.move_highlight_light(0, {-2, 2, 4});
+  const std::vector<uint32_t> after_move = filled(moved);
+  int changed = 0;
+  for (size_t i = 0; i < expected.size(); ++i) changed += after_move[i] != expected[i];
+  EXPECT_GT(changed, 50);
+  EXPECT_EQ(filled(*copy), expected);
 }
 
 }  // namespace

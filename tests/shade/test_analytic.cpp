@@ -327,7 +327,7 @@ TEST(Analytic, SpecularHighlightOfAMetal) {
 }
 
 // The punctual lights' specular part of a result, recomputed for other eyes by
-// Shader::punctual_specular from the result's lights, normals and material, equals what the
+// the shader's PunctualSpecularModel from the result's lights, normals and material, equals what the
 // shader computes from those eyes (docs/render.md, "Punctual highlights"). A smooth metal sphere
 // under a point light and a spot light, a box shadowing part of it from the point light; a
 // dielectric floor beside it.
@@ -346,6 +346,7 @@ TEST(Analytic, PunctualSpecularIsTheShadersHighlightFromAnyEye) {
   scene.punctual_lights.push_back(spot);
   RayScene rays(scene);
   Shader shader(rays, ShaderSettings{});
+  const PunctualSpecularModel model = shader.punctual_specular_model();
   const glm::vec3 eyes[] = {{5, -1, 2.5f}, {4, 3, 3}, {-2, -5, 2}, {0.5f, -4, 5}};
   int compared = 0, blocked = 0, turned = 0;
   for (int k = 0; k < 400; ++k) {
@@ -359,7 +360,7 @@ TEST(Analytic, PunctualSpecularIsTheShadersHighlightFromAnyEye) {
     blocked += (a.punctual_lights & 1u) == 0 && a.object == 0;
     const PunctualSurface surface{a.position, a.shading_normal, a.normal, a.material, a.punctual_lights};
     // From the shading eye: the result's own highlight.
-    const glm::vec3 own = shader.punctual_specular(surface, from.camera.eye, rays.punctual_lights());
+    const glm::vec3 own = model.specular(surface, from.camera.eye);
     for (int c = 0; c < 3; ++c) ASSERT_NEAR(own[c], a.punctual_specular[c], 1e-5f * (1 + a.punctual_specular[c])) << k;
     // From the other eyes that see the same point: what the shader computes there.
     for (const glm::vec3& eye : eyes) {
@@ -367,13 +368,13 @@ TEST(Analytic, PunctualSpecularIsTheShadersHighlightFromAnyEye) {
       const ShadeResult b = shade_at(shader, to, target);
       if (!b.hit || b.object != a.object || glm::distance(b.position, a.position) > 1e-4f) continue;
       ASSERT_EQ(b.punctual_lights, a.punctual_lights) << k;
-      const glm::vec3 now = shader.punctual_specular(surface, eye, rays.punctual_lights());
+      const glm::vec3 now = model.specular(surface, eye);
       for (int c = 0; c < 3; ++c) ASSERT_NEAR(now[c], b.punctual_specular[c], 2e-3f * (b.punctual_specular[c] + 0.01f)) << k;
       ++compared;
       turned += glm::distance(now, own) > 0.05f * (glm::length(own) + 0.01f);
     }
     // Without lights nothing is reflected; the metal's light is all specular.
-    EXPECT_EQ(shader.punctual_specular({a.position, a.shading_normal, a.normal, a.material, 0}, from.camera.eye, rays.punctual_lights()),
+    EXPECT_EQ(model.specular({a.position, a.shading_normal, a.normal, a.material, 0}, from.camera.eye),
               glm::vec3(0.0f));
     if (a.object == 0)
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(a.punctual_specular[c], a.color[c], 1e-6f * (1 + a.color[c]));
