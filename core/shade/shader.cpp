@@ -171,10 +171,32 @@ struct Shader::Tracer {
     if (!hit.hit) return true;
     if (hit.object != light_object) {
       BlockerTriple t{light, hit.object, s.object};
-      if (std::find(triples->begin() + std::ptrdiff_t(first_triple), triples->end(), t) == triples->end())
+      // Hard shadows only: area lights' triples (soft edges, off by default) are kept as found,
+      // since their many samples per result would pay the check many times.
+      const bool punctual = light < scene.punctual_lights().size();
+      if (std::find(triples->begin() + std::ptrdiff_t(first_triple), triples->end(), t) == triples->end() &&
+          (!punctual || sole_blocker(shadow_ray, hit, light_object)))
         triples->push_back(t);
     }
     return false;
+  }
+
+  // Whether nothing but the first blocker lies on the rest of the shadow ray: only then does that
+  // blocker's shadow edge show here. Where another object also blocks the light (a ceiling panel's
+  // shadow on a ceiling that a wall shades anyway), the edge is invisible, and it would only make
+  // its pixels complex (docs/render.md, "Shadow edges only where they show"). The ray is traced
+  // back from its far end (the light) to the first blocker: the first thing it meets from that side
+  // is the first blocker itself (any of its faces) when nothing else is in the way.
+  bool sole_blocker(const Ray& ray, const RayHit& first, uint32_t light_object) {
+    if (!(ray.tfar < 1e29f)) return true;  // directional: no far end to start from
+    Ray back;
+    back.origin = ray.origin + ray.direction * ray.tfar;
+    back.direction = -ray.direction;
+    back.tnear = 0.0f;
+    back.tfar = (ray.tfar - first.t) * (1.0f + 1e-4f) + settings.ray_offset * std::max(1.0f, ray.tfar);
+    ++rays;
+    const RayHit hit = scene.intersect(back);
+    return !hit.hit || hit.object == first.object || hit.object == light_object;
   }
 
   // Reflected radiance from punctual light i, per lobe.

@@ -62,6 +62,30 @@ TEST(Shadows, PointBehindABlockerIsBlackAndReportsTheTriple) {
   }
 }
 
+// A blocker whose shadow lies inside another blocker's shadow draws no visible edge: the shadow ray
+// names the first blocker only where nothing else blocks the light behind it (docs/render.md,
+// "Shadow edges only where they show"). A wide plate at z = 2.5 shades the small box under it.
+TEST(Shadows, ABlockerInsideAnotherBlockersShadowReportsNoTriple) {
+  ShadowScene s = make_shadow_scene(false);
+  const uint32_t grey = 0;  // make_shadow_scene's material
+  const uint32_t plate = test::add_object(s.scene, test::quad_mesh({-1.5f, -1.5f, 2.5f}, {3, 0, 0}, {0, 3, 0}, grey), "plate");
+  RayScene rays(s.scene);
+  Shader shader(rays, ShaderSettings{});
+  // (0, 0, 0): the box is nearest, the plate blocks the light behind it. (1.2, 0, 0) and (3, 0, 0):
+  // towards the light they pass the box's side (x = 0.6, 1.5 at z = 1.5) and meet the plate.
+  const ShadeBatch batch = shade_points(shader, kView, {{0, 0, 0}, {0.2f, -0.1f, 0}, {1.2f, 0, 0}, {3, 0, 0}});
+  for (int i : {0, 1}) {
+    const ShadeResult& r = batch.results[i];
+    ASSERT_TRUE(r.hit);
+    EXPECT_EQ(r.color, glm::vec3(0.0f));
+    EXPECT_EQ(r.triple_count, 0u) << i;
+  }
+  for (int i : {2, 3}) {
+    ASSERT_EQ(batch.results[i].triple_count, 1u) << i;
+    EXPECT_EQ(batch.triples_of(batch.results[i])[0], (BlockerTriple{0, plate, s.floor})) << i;
+  }
+}
+
 TEST(Shadows, AreaLightTriplesAreNumberedAfterPunctualLightsAndDeduplicated) {
   ShadowScene s = make_shadow_scene(true);
   RayScene rays(s.scene);
