@@ -193,7 +193,9 @@ struct Shader::Tracer {
     back.origin = ray.origin + ray.direction * ray.tfar;
     back.direction = -ray.direction;
     back.tnear = 0.0f;
-    back.tfar = (ray.tfar - first.t) * (1.0f + 1e-4f) + settings.ray_offset * std::max(1.0f, ray.tfar);
+    // Just past the blocker's face, by at most half the way from the ray's start to it, so that the
+    // ray back never reaches the receiver (a blocker resting on it: a contact shadow).
+    back.tfar = (ray.tfar - first.t) + std::min(settings.ray_offset * std::max(1.0f, ray.tfar), 0.5f * first.t);
     ++rays;
     const RayHit hit = scene.intersect(back);
     return !hit.hit || hit.object == first.object || hit.object == light_object;

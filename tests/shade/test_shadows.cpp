@@ -86,6 +86,29 @@ TEST(Shadows, ABlockerInsideAnotherBlockersShadowReportsNoTriple) {
   }
 }
 
+// A blocker resting on its receiver keeps its triple right at the contact, where the shadow ray meets
+// the blocker a ray offset or less from its start: the ray traced back from the light must count
+// the blocker as the only one there, never the receiver just behind it.
+TEST(Shadows, ABlockerRestingOnTheReceiverReportsItsTripleAtTheContact) {
+  Scene scene;
+  const uint32_t grey = test::add_material(scene, glm::vec3(0.5f));
+  const uint32_t floor = test::add_object(scene, test::quad_mesh({-10, -10, 0}, {20, 0, 0}, {0, 20, 0}, grey), "floor");
+  const uint32_t box = test::add_object(scene, test::box_mesh({-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f}, grey, false), "box");
+  scene.punctual_lights.push_back(test::point_light({2, 0, 3}, glm::vec3(10.0f)));
+  RayScene rays(scene);
+  Shader shader(rays, ShaderSettings{});
+  const View view{test::look({-6, -2, 2}, {0, 0, 0}), 128, 128};
+  for (const float gap : {1e-4f, 1e-3f, 0.05f}) {
+    const ShadeBatch batch = shade_points(shader, view, {{-0.5f - gap, 0.1f, 0.0f}});
+    const ShadeResult& r = batch.results[0];
+    ASSERT_TRUE(r.hit);
+    ASSERT_EQ(r.object, floor) << gap;
+    EXPECT_EQ(r.color, glm::vec3(0.0f)) << gap;
+    ASSERT_EQ(r.triple_count, 1u) << gap;
+    EXPECT_EQ(batch.triples_of(r)[0], (BlockerTriple{0, box, floor})) << gap;
+  }
+}
+
 TEST(Shadows, AreaLightTriplesAreNumberedAfterPunctualLightsAndDeduplicated) {
   ShadowScene s = make_shadow_scene(true);
   RayScene rays(s.scene);
