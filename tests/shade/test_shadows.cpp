@@ -87,8 +87,9 @@ TEST(Shadows, ABlockerInsideAnotherBlockersShadowReportsNoTriple) {
 }
 
 // A blocker resting on its receiver keeps its triple right at the contact, where the shadow ray meets
-// the blocker a ray offset or less from its start: the ray traced back from the light must count
-// the blocker as the only one there, never the receiver just behind it.
+// the blocker about a ray offset from its start: the ray traced back from the light meets the box
+// first, so the box counts as the only blocker (fails when the check counts anything near the
+// receiver, or nothing, as the only blocker's absence).
 TEST(Shadows, ABlockerRestingOnTheReceiverReportsItsTripleAtTheContact) {
   Scene scene;
   const uint32_t grey = test::add_material(scene, glm::vec3(0.5f));
