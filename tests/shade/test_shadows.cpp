@@ -88,8 +88,7 @@ TEST(Shadows, ABlockerInsideAnotherBlockersShadowReportsNoTriple) {
 
 // A blocker resting on its receiver keeps its triple right at the contact, where the shadow ray meets
 // the blocker about a ray offset from its start: the ray traced back from the light meets the box
-// first, so the box counts as the only blocker (fails when the check counts anything near the
-// receiver, or nothing, as the only blocker's absence).
+// first, so the box counts as the only blocker (fails if the check never finds a sole blocker).
 TEST(Shadows, ABlockerRestingOnTheReceiverReportsItsTripleAtTheContact) {
   Scene scene;
   const uint32_t grey = test::add_material(scene, glm::vec3(0.5f));
