@@ -158,6 +158,7 @@ int run_render_frames(const RenderOptions& options) {
   settings.seed = options.seed;
   settings.soft_shadow_edges = options.soft_shadow_edges;
   settings.sparse_blend = options.sparse_blend;
+  settings.sparse_effort = options.sparse_effort;
   if (!options.punctual_highlights) settings.cache.punctual_highlight_share = render::PointCacheSettings::kNoPunctualHighlights;
   settings.trace_ahead = options.trace_ahead;
   settings.rest_sample_budget = options.rest_sample_budget;
@@ -175,7 +176,7 @@ int run_render_frames(const RenderOptions& options) {
   struct Series {
     std::array<std::vector<double>, render::kFrameStageCount> stages;  // per render::kFrameStages
     std::vector<double> total, empty, simple, complex_pixels, silhouette, sharp, border, shadow, culled, samples, requested,
-        predicted, points_culled, points_occluded, holes_filled, sparse_blended, result_lag, integrate;
+        predicted, effort, points_culled, points_occluded, holes_filled, sparse_blended, result_lag, integrate;
   } series;
   stage = Clock::now();
   double write_frames_ms = 0.0;
@@ -201,7 +202,7 @@ int run_render_frames(const RenderOptions& options) {
       series.border.push_back(double(s.edges.border)), series.shadow.push_back(double(s.edges.shadow));
       series.culled.push_back(double(s.edges.culled));
       series.samples.push_back(double(s.samples)), series.requested.push_back(double(s.requested));
-      series.predicted.push_back(double(s.predicted));
+      series.predicted.push_back(double(s.predicted)), series.effort.push_back(double(s.effort));
       series.points_culled.push_back(double(s.points.culled)), series.points_occluded.push_back(double(s.points.occluded));
       series.holes_filled.push_back(double(s.holes_filled));
       series.sparse_blended.push_back(double(s.sparse_blended));
@@ -317,6 +318,8 @@ int run_render_frames(const RenderOptions& options) {
         {"samples_per_frame", samples_per_frame},
         {"requests_per_frame", mean(series.requested)},
         {"predicted_per_frame", mean(series.predicted)},
+        // mean ShadeRequest::effort of the requests (docs/render.md, "Effort where samples are sparse")
+        {"effort_per_request", mean(series.requested) > 0.0 ? mean(series.effort) / mean(series.requested) : 1.0},
         {"result_lag_frames", mean(series.result_lag)},
         {"points_per_frame",
          {{"depth_culled", mean(series.points_culled)},

@@ -133,6 +133,12 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
                  "epi mode: show sparse regions (samples several pixels apart, as on a surface the camera "
                  "approaches) as the EPI reconstructs them, a patch per sample, instead of blending them towards "
                  "an edge-stopping smooth interpolation of the samples (docs/render.md)");
+    app.add_option("--sparse-effort", render.sparse_effort,
+                   "epi mode: a request where the EPI's samples are sparse (one result shown over many pixels) "
+                   "takes up to this many times the shader's sample counts; 1: off (docs/render.md, \"Effort where "
+                   "samples are sparse\")")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str();
     app.add_flag("!--no-punctual-highlights", render.punctual_highlights,
                  "epi mode: show the punctual lights' highlights as each point was shaded, fading as the view turns, "
                  "instead of recomputing them for every frame's eye from the lights that reach the point "

@@ -187,8 +187,10 @@ PointCache::ColourTerms PointCache::colour_terms(const PointColour& c) const {
   // results averaged so far (a single result: single_sample_error), over single_sample_error.
   float error = settings_.single_sample_error;
   if (c.count >= 2) {
-    const float n = float(c.count);
-    error = std::sqrt(std::max(c.luminance_m2, 0.0f) / (n * (n - 1.0f))) / (luminance(c.color) + 0.02f);
+    const float n = float(c.count), w = float(c.weight);
+    error = std::sqrt(std::max(c.luminance_m2, 0.0f) / (w * (n - 1.0f))) / (luminance(c.color) + 0.02f);
+  } else if (c.weight > 1) {
+    error /= std::sqrt(float(c.weight));  // one result of effort w
   }
   const float factor = settings_.single_sample_error > 0.0f ? std::clamp(error / settings_.single_sample_error, 0.25f, 4.0f) : 1.0f;
   return {share, factor};
@@ -624,6 +626,7 @@ void PointCache::prepare_result(const ViewFrame& shot, const ShadeResult& r, std
   colour.color = glm::max(r.color, glm::vec3(0.0f));
   colour.view_dependent = glm::clamp(r.view_dependent, glm::vec3(0.0f), colour.color);
   colour.epoch = epoch;
+  colour.weight = std::max<uint16_t>(r.effort, 1);
   // A punctual highlight kept apart: the colour keeps the rest.
   out.highlight = PunctualHighlight{};
   const float highlight = luminance(r.punctual_specular);
@@ -775,12 +778,15 @@ size_t PointCache::insert(const ViewFrame& shot, const ShadeBatch& batch, std::s
           if ((no_refine_.size() != image_.point.size() || !no_refine_[pixel]) && alike && refines(cached, stats, point, colour)) {
             // The same surface point under the same placement: one more sample of the same
             // quantity. A running mean (Welford for the luminance's variance), not a replacement.
-            const float n = float(stats.count) + 1.0f;
+            // Weighted by effort (a result of effort w counts as w results of effort 1; with
+            // every effort 1, the plain running mean's arithmetic).
+            const float w = float(colour.weight), n = float(stats.weight) + w;
             const float before = luminance(stats.color);
-            stats.color += (colour.color - stats.color) / n;
-            stats.view_dependent += (colour.view_dependent - stats.view_dependent) / n;
-            stats.luminance_m2 += (luminance(colour.color) - before) * (luminance(colour.color) - luminance(stats.color));
+            stats.color += (colour.color - stats.color) * w / n;
+            stats.view_dependent += (colour.view_dependent - stats.view_dependent) * w / n;
+            stats.luminance_m2 += w * (luminance(colour.color) - before) * (luminance(colour.color) - luminance(stats.color));
             stats.count = uint16_t(std::min<int>(stats.count + 1, 0xffff));
+            stats.weight = uint16_t(std::min<int>(stats.weight + colour.weight, 0xffff));
             update_from_colour(cached, stats);
             if (!highlights_.empty()) set_highlight(size_t(old), prepared_[k].highlight);
             cached.age = 0;
@@ -852,7 +858,7 @@ bool PointCache::refines(const CachePoint& cached, const PointColour& cached_col
   if (!settings_.refine || cached_colour.epoch != result_colour.epoch || cached.object != result.object ||
       result.object == kNone)
     return false;
-  if (cached_colour.count == 0xffff) return false;
+  if (cached_colour.count == 0xffff || int(cached_colour.weight) + int(result_colour.weight) > 0xffff) return false;
   // View-dependent shading is one quantity only from about the same direction.
   const float total = luminance(result_colour.color) + luminance(cached_colour.color);
   const float share =

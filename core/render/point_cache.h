@@ -135,12 +135,17 @@ struct PunctualHighlight {
 };
 
 struct PointColour {
-  glm::vec3 color{0.0f};  // linear RGB (the mean of `count` results)
+  glm::vec3 color{0.0f};  // linear RGB (the mean of `count` results, each weighted by its effort)
   glm::vec3 view_dependent{0.0f};  // of color, the part that depends on the eye (ShadeResult::view_dependent)
-  float luminance_m2 = 0.0f;  // sum of squared deviations of the results' luminance (Welford)
+  // Sum of the results' weighted squared deviations from the mean of their luminance (West's
+  // weighted Welford): a result of effort w has 1/w of a single result's variance, so
+  // luminance_m2 / (count - 1) estimates that variance and dividing by `weight` gives the mean's.
+  float luminance_m2 = 0.0f;
   uint16_t count = 1;         // results averaged into color
   uint16_t epoch = 0;         // placement (objects, lights) the results were shaded under
+  uint16_t weight = 1;        // the results' summed effort (ShadeResult::effort), the mean's weight
 };
+static_assert(sizeof(PointColour) == 36);
 
 // The points drawn in the current frame: one per pixel at most (after the z-buffer and depth cull).
 struct PointImage {

@@ -271,6 +271,10 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
   if (settings_.trace_ahead && result_lag_ > 0.0 && previous_camera_ && !same_camera(*previous_camera_, camera))
     shot.frame = ViewFrame(make_view(extrapolate_camera(*previous_camera_, camera, float(result_lag_)), w, h));
   make_requests(dither_pixels(priority, w, h, main_budget), w, settings_.seed, uint64_t(index) * 2, 0, shot.requests);
+  stats_.most_effort = settings_.mode == RenderMode::epi && frame_ > 0 && shader_.effort_matters()
+                           ? (async_ ? effort_most_ : settings_.sparse_effort)
+                           : 1;
+  set_sparse_effort(shot.requests, epi_, settings_.sparse.dense, stats_.most_effort, effort_counts_);
   shots.insert(shots.begin(), std::move(shot));
 
   // Async: the shader may get through only a prefix before the next frame cancels the rest, so
@@ -281,6 +285,7 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
   for (NewShot& s : shots) {
     for (ShadeRequest& r : s.requests) r.id = next_id_++;
     stats_.requested += s.requests.size();
+    for (const ShadeRequest& r : s.requests) stats_.effort += std::max<uint8_t>(r.effort, 1);
     shots_.push_back({s.requests.empty() ? next_id_ : s.requests.front().id, uint32_t(s.requests.size()), frame_, s.frame,
                       placement_});
   }
@@ -470,6 +475,8 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
     const double most = settings_.sample_budget > 0.0 ? std::max(1.0, settings_.rest_sample_budget / settings_.sample_budget) : 1.0;
     const bool grow = !shader_behind_ && stats_.integrate_ms < settings_.rest_integrate_share * ms_since(start);
     budget_scale_ = !at_rest ? 1.0 : grow ? std::min(most, budget_scale_ * 1.5) : std::max(1.0, budget_scale_ / 1.5);
+    // Effort only from the shader's spare time: a shader that is behind would finish fewer requests.
+    effort_most_ = shader_behind_ ? std::max(1, effort_most_ / 2) : std::min(settings_.sparse_effort, effort_most_ + 1);
     std::vector<NewShot> shots = choose_requests(frame, reconstruction_.priority, frame_);
     async_->cancel_pending();
     // Main and predicted requests interleaved in proportion, in rounds of a quarter slice.
@@ -485,7 +492,7 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   // view (the next frame shades them first; their jitter is keyed by the frame that shades them).
   if (as_async) {
     const auto ts = Clock::now();
-    stats_.requested = stats_.predicted = 0;  // the requests chosen this frame: those for the next
+    stats_.requested = stats_.predicted = stats_.effort = 0;  // the requests chosen this frame: those for the next
     sync_shots_ = choose_requests(frame, reconstruction_.priority, frame_ + 1);
     sampling_ms += ms_since(ts);
   }

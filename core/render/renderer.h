@@ -88,6 +88,11 @@ struct FrameSettings {
   bool soft_shadow_edges = false;
   bool fill_holes = true;       // epi mode: pixels that reach no sample get their region's nearest colours (hole_fill.h)
   bool sparse_blend = true;     // epi mode: sparse regions smoothed (sparse_blend.h)
+  // epi mode: a request where the EPI's samples are sparse takes up to this many times the shader's
+  // sample counts (set_sparse_effort, sampling.h; docs/render.md, "Effort where samples are
+  // sparse"); 1: off. In the asynchronous loop only while the shader keeps up: the most effort
+  // halves after a frame whose requests the shader did not finish and grows by 1 after one it did.
+  int sparse_effort = 4;
   SparseBlendSettings sparse;
   bool occlusion_culling = true;
   // Points behind the tangent plane of a nearer point with no geometric edge between them are not
@@ -110,6 +115,8 @@ struct FrameStats {
   size_t samples = 0;    // shading results integrated into the cache this frame
   size_t requested = 0;  // requests made this frame (incl. predicted)
   size_t predicted = 0;  // of which for predicted gaps
+  size_t effort = 0;     // the requests' summed effort (ShadeRequest::effort; requested when all are 1)
+  int most_effort = 1;   // the most effort a request could take this frame (FrameSettings::sparse_effort)
   size_t holes_filled = 0;  // pixels that reached no sample, filled by fill_holes
   size_t sparse_blended = 0;  // pixels blended towards the smooth interpolation (sparse_blend.h)
   int loop_threads = 0;     // the frame loop's concurrency this frame (FrameSettings::core_split)
@@ -204,6 +211,8 @@ class FrameRenderer {
   std::unique_ptr<AsyncShader> async_;
   int cores_ = 1, shader_threads_ = 0;
   bool shader_behind_ = false;  // the last frame's requests were not all shaded by its end
+  std::vector<uint32_t> effort_counts_;  // set_sparse_effort's block counts
+  int effort_most_ = 1;  // async: the most effort a request may take now (FrameSettings::sparse_effort)
   double budget_scale_ = 1.0;   // of sample_budget, grown at rest (FrameSettings::rest_sample_budget)
   std::unique_ptr<tbb::task_arena> loop_arena_;  // the loop's cores while the shader is behind (adaptive)
   PointCache cache_;

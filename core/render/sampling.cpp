@@ -225,6 +225,34 @@ void make_requests(std::span<const uint32_t> pixels, int width, uint64_t seed, u
   }
 }
 
+void set_sparse_effort(std::span<ShadeRequest> requests, const EpiImage& epi, float dense, int most,
+                       std::vector<uint32_t>& counts) {
+  for (ShadeRequest& r : requests) r.effort = 1;
+  if (most <= 1 || requests.empty() || epi.width <= 0 || epi.height <= 0) return;
+  constexpr int B = kEffortBlock;
+  const int w = epi.width, h = epi.height, bw = (w + B - 1) / B, bh = (h + B - 1) / B;
+  counts.assign(size_t(bw) * size_t(bh), 0);
+  tbb::parallel_for(0, bh, [&](int by) {
+    uint32_t* row = counts.data() + size_t(by) * size_t(bw);
+    for (int y = by * B; y < std::min(h, (by + 1) * B); ++y)
+      for (int x = 0; x < w; ++x) row[x / B] += has_sample(epi.edge[epi.index(x, y)]);
+  });
+  const uint8_t most8 = uint8_t(std::min(most, 255));
+  for (ShadeRequest& r : requests) {
+    if (!std::isfinite(r.x) || !std::isfinite(r.y)) continue;
+    const int bx = std::clamp(int(r.x) / B, 0, bw - 1), by = std::clamp(int(r.y) / B, 0, bh - 1);
+    uint64_t samples = 0, pixels = 0;
+    for (int y = std::max(0, by - 1); y <= std::min(bh - 1, by + 1); ++y)
+      for (int x = std::max(0, bx - 1); x <= std::min(bw - 1, bx + 1); ++x) {
+        samples += counts[size_t(y) * size_t(bw) + size_t(x)];
+        pixels += uint64_t(std::min(w, (x + 1) * B) - x * B) * uint64_t(std::min(h, (y + 1) * B) - y * B);
+      }
+    const double share = double(samples) / double(pixels);
+    const double effort = share > 0.0 ? std::round(std::sqrt(double(dense) / share)) : double(most8);
+    r.effort = uint8_t(std::clamp(effort, 1.0, double(most8)));
+  }
+}
+
 void shuffle_requests(std::vector<ShadeRequest>& requests, uint64_t seed, uint64_t frame) {
   uint64_t state = splitmix64(seed ^ splitmix64(frame ^ 0x243f6a8885a308d3ull));
   for (size_t k = requests.size(); k > 1; --k) {

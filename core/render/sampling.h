@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "epi/epi_pixel.h"
 #include "render/point_cache.h"
 #include "shade/shader.h"
 #include "shade/view.h"
@@ -41,6 +42,17 @@ std::vector<uint32_t> dither_in_bands(std::span<const float> priority, int width
 // count up from first_id.
 void make_requests(std::span<const uint32_t> pixels, int width, uint64_t seed, uint64_t frame, uint32_t first_id,
                    std::vector<ShadeRequest>& out);
+
+// Effort where samples are sparse (docs/render.md, "Effort where samples are sparse"): a result
+// is shown over about 1 / share pixels, share being the local fraction of the EPI's pixels that
+// hold a sample, so its noise weighs in proportion to that footprint; the samples that minimize
+// the summed error go in proportion to its square root (Neyman's allocation). Each request's
+// effort becomes round(sqrt(dense / share)), clamped to [1, most], share counted over the
+// kEffortBlock-square blocks within one block of the request's (`counts`: the blocks' sample
+// counts, the caller's storage). most <= 1: every effort 1.
+inline constexpr int kEffortBlock = 8;
+void set_sparse_effort(std::span<ShadeRequest> requests, const EpiImage& epi, float dense, int most,
+                       std::vector<uint32_t>& counts);
 
 // The order in which a frame's requests go to the asynchronous shader, which may shade only a
 // prefix before the next frame cancels the rest: each shot's requests are shuffled by a hash of

@@ -458,6 +458,18 @@ Shader::Shader(const RayScene& scene, const ShaderSettings& settings) : scene_(s
   require(settings.gi_max_bounces >= 0 && settings.gi_roulette_bounce >= 1, "bounce limits must be >= 0 and >= 1");
   require(settings.gi_path_clamp >= 0.0f, "gi_path_clamp must not be negative");
   require(settings.ray_offset > 0.0f && settings.ray_offset < 0.1f, "ray_offset must be in (0, 0.1)");
+  // (Once, here: in the asynchronous loop the ray scene's lights belong to the shading thread.)
+  const std::vector<float>& cdf = scene.area_light_cdf();
+  const bool area = settings.area_light_samples > 0 && !cdf.empty() && cdf.back() > 0.0f;
+  const bool glossy = settings.kind == ShaderKind::glossy && settings.specular && settings.glossy_samples > 0;
+  const bool gi = settings.kind == ShaderKind::gi && settings.gi_paths > 0 && settings.gi_max_bounces > 0;
+  effort_matters_ = area || glossy || gi;
+}
+
+ShaderSettings with_effort(const ShaderSettings& settings, int effort) {
+  ShaderSettings out = settings;
+  out.area_light_samples *= effort, out.glossy_samples *= effort, out.gi_paths *= effort;
+  return out;
 }
 
 ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& request, std::vector<BlockerTriple>& triples,
@@ -466,28 +478,31 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
   result.id = request.id;
   result.x = request.x;
   result.y = request.y;
+  result.effort = effort_matters() ? std::max<uint8_t>(request.effort, 1) : 1;
   result.triple_begin = uint32_t(triples.size());
   if (!std::isfinite(request.x) || !std::isfinite(request.y)) return result;  // no ray: a miss
-  Tracer tracer{scene_, settings_, &triples, triples.size(), 0};
+  ShaderSettings scaled;
+  const ShaderSettings& settings = request.effort > 1 ? (scaled = with_effort(settings_, request.effort), scaled) : settings_;
+  Tracer tracer{scene_, settings, &triples, triples.size(), 0};
   Ray ray = frame.ray(request.x, request.y);
   RayHit hit = tracer.trace(ray);
   if (hit.hit) {
     Surface s = tracer.surface(hit, ray);
-    uint64_t key = request_key(settings_.seed, request.x, request.y);
+    uint64_t key = request_key(settings.seed, request.x, request.y);
     // Glossy mode: the GGX rays also find the area lights; MIS shares the specular lobe.
-    const bool glossy_rays = settings_.kind == ShaderKind::glossy && settings_.specular && settings_.glossy_samples > 0;
-    const BrdfValue direct = tracer.direct_lobes(s, settings_.area_light_samples, key, nullptr,
-                                                 glossy_rays ? settings_.glossy_samples : 0, true, &result.punctual_lights,
+    const bool glossy_rays = settings.kind == ShaderKind::glossy && settings.specular && settings.glossy_samples > 0;
+    const BrdfValue direct = tracer.direct_lobes(s, settings.area_light_samples, key, nullptr,
+                                                 glossy_rays ? settings.glossy_samples : 0, true, &result.punctual_lights,
                                                  &result.punctual_specular);
     const glm::vec3 emitted = tracer.emitted(s);
     glm::vec3 color = emitted + direct.sum();
     glm::vec3 view_dependent = direct.specular;
     tracer.triples = nullptr;  // triples come from the primary hit's shadow rays only
-    if (settings_.kind == ShaderKind::glossy) {
+    if (settings.kind == ShaderKind::glossy) {
       const glm::vec3 glossy = tracer.glossy(s, key);
       color += glossy, view_dependent += glossy;
     }
-    if (settings_.kind == ShaderKind::gi) color += tracer.indirect(s, key, &view_dependent);
+    if (settings.kind == ShaderKind::gi) color += tracer.indirect(s, key, &view_dependent);
     for (int c = 0; c < 3; ++c) {
       if (!std::isfinite(color[c])) color[c] = 0.0f;
       if (!std::isfinite(view_dependent[c])) view_dependent[c] = 0.0f;
@@ -498,10 +513,10 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
     result.shading_normal = s.shading_normal;
     result.material = uint32_t(s.material - scene_.scene().materials.data());
     result.view_dependent = view_dependent;
-    result.lobe_width = settings_.specular ? BrdfParams::from(*s.material, true).alpha : 0.0f;
+    result.lobe_width = settings.specular ? BrdfParams::from(*s.material, true).alpha : 0.0f;
     const bool emits = emitted.x > 0.0f || emitted.y > 0.0f || emitted.z > 0.0f;
     result.diffuse_transmission =
-        settings_.specular && !emits ? diffuse_transmission(glm::dot(s.geometric_normal, s.wo)) : 0.0f;
+        settings.specular && !emits ? diffuse_transmission(glm::dot(s.geometric_normal, s.wo)) : 0.0f;
     result.hit = true;
     result.object = s.object;
     result.triangle = s.triangle;

@@ -32,9 +32,17 @@ struct ShaderSettings {
   float ray_offset = 1e-4f;              // secondary ray start offset, relative to the hit's coordinate scale
 };
 
+// settings with the primary hit's sample counts (area-light samples, glossy rays, gi paths)
+// multiplied by effort (ShadeRequest::effort).
+ShaderSettings with_effort(const ShaderSettings& settings, int effort);
+
 struct ShadeRequest {
   uint32_t id = 0;
   float x = 0.0f, y = 0.0f;  // pixel position with sub-pixel offset (see view.h); may lie outside the image; non-finite: a miss
+  // The primary hit's estimates (area-light samples, glossy rays, gi paths) take this many times
+  // their settings' counts (0 counts as 1): the renderer spends more where one result will be
+  // spread over many pixels (docs/render.md, "Effort where samples are sparse").
+  uint8_t effort = 1;
 };
 
 // A light whose shadow ray from the receiver was blocked by the blocker object.
@@ -49,6 +57,7 @@ struct ShadeResult {
   uint32_t id = 0;
   float x = 0.0f, y = 0.0f;
   bool hit = false;
+  uint8_t effort = 1;         // the request's (ShadeRequest::effort, at least 1)
   uint32_t object = kNone;    // kNone on a miss
   uint32_t triangle = kNone;
   glm::vec3 position{0.0f};   // first hit, world space
@@ -117,6 +126,10 @@ class Shader {
   ShadeResult shade_one(const ViewFrame& frame, const ShadeRequest& request, std::vector<BlockerTriple>& triples,
                         uint64_t& rays) const;
 
+  // Whether a request's effort changes its result: some estimate of the primary hit is sampled
+  // (area lights with samples, glossy rays, gi paths). Where none is, results report effort 1.
+  bool effort_matters() const { return effort_matters_; }
+
   // This shader's punctual specular model, with the ray scene's lights where they are now (call it
   // on the thread that owns the ray scene); no materials when the shader has no specular lobes.
   PunctualSpecularModel punctual_specular_model() const;
@@ -135,6 +148,7 @@ class Shader {
   struct Tracer;
   const RayScene& scene_;
   ShaderSettings settings_;
+  bool effort_matters_ = false;
   mutable std::atomic<uint64_t> rays_traced_{0};
   mutable std::atomic<uint64_t> shading_ns_{0};
 };

@@ -664,6 +664,73 @@ TEST(FrameLoop, AtRestTheBudgetGrowsWhileTheShaderKeepsUp) {
   }
 }
 
+// Effort where samples are sparse (docs/render.md): with an area light (whose samples effort
+// multiplies), a sync frame over a sparse EPI asks for more than one effort a request and for
+// exactly one once the still view has filled in; `sparse_effort` 1 and a scene whose shading
+// samples nothing (a point light only) never do. Asynchronously the most effort grows by one after
+// each frame whose requests were all shaded and halves after one whose were not, so a shader
+// that falls behind is not asked for more.
+TEST(FrameLoop, SparseRegionsAskForMoreEffortWhileTheShaderKeepsUp) {
+  struct Lit {
+    Scene scene = [] {
+      Scene s = plane_and_box();
+      const uint32_t glow = test::add_material(s, glm::vec3(0.0f), 0.0f, 1.0f, glm::vec3(6.0f));
+      const uint32_t panel = test::add_object(s, test::quad_mesh({-1, -1, 4}, {0, 2, 0}, {2, 0, 0}, glow), "panel");
+      test::add_area_light(s, panel);
+      return s;
+    }();
+    RayScene ray_scene{scene};
+    Shader shader{ray_scene, ShaderSettings{}};
+  } lit;
+  ASSERT_TRUE(lit.shader.effort_matters());
+  const Camera camera = lit.scene.cameras[0];
+  auto efforts = [&](const Shader& shader, const Scene& scene, int most, int frames) {
+    FrameSettings s = small_settings(RenderMode::epi);
+    s.sample_budget = 0.02, s.sparse_effort = most;
+    FrameRenderer renderer(scene, lit.ray_scene, shader, s);
+    std::vector<double> per_request;
+    for (int k = 0; k < frames; ++k) {
+      renderer.render(camera);
+      per_request.push_back(double(renderer.stats().effort) / double(renderer.stats().requested));
+    }
+    return per_request;
+  };
+  const std::vector<double> sparse = efforts(lit.shader, lit.scene, 4, 120);
+  EXPECT_EQ(sparse[0], 1.0);  // the first frame has no EPI to look at
+  EXPECT_GT(sparse[1], 2.0);  // a 2 % EPI: mostly sqrt(0.3 / 0.02) = 3.9, rounded to 4
+  EXPECT_LE(sparse[1], 4.0);
+  EXPECT_EQ(sparse.back(), 1.0) << "a still view that has filled in";
+  for (double e : efforts(lit.shader, lit.scene, 1, 3)) EXPECT_EQ(e, 1.0);
+  Fixture f;  // a point light only
+  ASSERT_FALSE(f.shader.effort_matters());
+  for (double e : efforts(f.shader, f.scene, 4, 3)) EXPECT_EQ(e, 1.0);
+
+  // Asynchronous: the most effort follows the shader.
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<bool> hold{false};
+  FrameSettings s = small_settings(RenderMode::epi, false);
+  s.sample_budget = 0.02, s.sparse_effort = 4;
+  s.before_shading_slice = [&] {
+    if (hold) released.wait();
+  };
+  FrameRenderer renderer(lit.scene, lit.ray_scene, lit.shader, s);
+  std::vector<int> most;
+  auto frame = [&](bool wait) {
+    renderer.render(camera);
+    most.push_back(renderer.stats().most_effort);
+    if (wait) wait_for_shader(renderer);
+  };
+  for (int k = 0; k < 5; ++k) frame(true);
+  hold = true;  // nothing shaded from here on
+  for (int k = 0; k < 3; ++k) frame(false);
+  release.set_value();
+  wait_for_shader(renderer);
+  // Frame 0 has no EPI (the most, 2 after it, is not used); then 3, 4, 4, 4 while the shader
+  // keeps up; behind: 4 (the first held frame's requests are chosen before the hold shows), 2, 1.
+  EXPECT_EQ(most, (std::vector<int>{1, 3, 4, 4, 4, 4, 2, 1}));
+}
+
 // Async shading while the box moves every frame: results of every frame are integrated (not
 // dropped because something moved), each drawn point lies where ray casting the current placement
 // finds its surface, and no box point is drawn where the box no longer is.

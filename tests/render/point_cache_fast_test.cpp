@@ -45,7 +45,7 @@ bool same_point(const CachePoint& a, const CachePoint& b) {
 
 bool same_colour(const PointColour& a, const PointColour& b) {
   return same_bits(a.color, b.color) && same_bits(a.view_dependent, b.view_dependent) &&
-         same_bits(a.luminance_m2, b.luminance_m2) && a.count == b.count && a.epoch == b.epoch;
+         same_bits(a.luminance_m2, b.luminance_m2) && a.count == b.count && a.epoch == b.epoch && a.weight == b.weight;
 }
 
 void expect_same_cache(const PointCache& fast, const PointCache& reference, const std::string& where) {

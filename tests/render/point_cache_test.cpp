@@ -501,6 +501,59 @@ TEST(PointCache, RefinedPointsAverageTheirResultsAndAskForSamplesByTheirUncertai
   EXPECT_EQ(single_age, cache.points()[size_t(cache.image().point[0])].age);  // factor 1
 }
 
+// Results of different effort (ShadeRequest::effort) refine a point as a weighted mean: a result of
+// effort w counts as w results of effort 1 (the mean and its luminance spread against a brute-force
+// weighted mean and sum of weighted squared deviations), and one result of effort w asks for
+// samples as one whose error is 1/sqrt(w) of a single result's.
+TEST(PointCache, ResultsOfHigherEffortWeighMoreInTheRunningMean) {
+  const int w = 8, h = 8;
+  const ViewFrame frame(view_of(camera_at({0, 0, 10}, {0, 0, 0}), w, h));
+  PointCache cache(w, h);
+  ShadeBatch first = full_plane(frame, 0.0f, 0.5f, 0.5f, glm::vec3(0.5f));
+  for (ShadeResult& r : first.results) r.effort = 4;
+  cache.insert(frame, first, kIdentity);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> value(0.0f, 1.0f);
+  std::uniform_int_distribution<int> effort(1, 8);
+  std::vector<double> values{0.5}, weights{4.0};
+  for (int k = 0; k < 40; ++k) {
+    cache.project(frame, kIdentity);
+    ShadeBatch batch;
+    const float v = value(rng);
+    batch.results.push_back(plane_hit(frame, 3.4f, 4.6f, 0.0f, 0, glm::vec3(v)));
+    batch.results.back().effort = uint8_t(effort(rng));
+    values.push_back(v), weights.push_back(batch.results.back().effort);
+    cache.insert(frame, batch, kIdentity);
+  }
+  cache.project(frame, kIdentity);
+  const size_t slot = size_t(cache.image().point[cache.image().index(3, 4)]);
+  const PointColour& c = cache.colours()[slot];
+  double total = 0.0, mean = 0.0, m2 = 0.0;
+  for (size_t i = 0; i < values.size(); ++i) total += weights[i], mean += weights[i] * values[i];
+  mean /= total;
+  for (size_t i = 0; i < values.size(); ++i) m2 += weights[i] * (values[i] - mean) * (values[i] - mean);
+  EXPECT_EQ(c.count, 41);
+  EXPECT_EQ(c.weight, uint16_t(total));
+  EXPECT_NEAR(c.color.r, mean, 1e-4);
+  EXPECT_NEAR(c.luminance_m2, m2 * 1.0, 1e-3 * m2);  // a grey's luminance is its level
+  // The plain mean would be off by more than that (the test can tell the two apart).
+  double plain = 0.0;
+  for (double v : values) plain += v / double(values.size());
+  EXPECT_GT(std::abs(plain - mean), 1e-3);
+
+  // One result of effort 4 (the rest of the plane): half a single result's error, so its
+  // sampling age grows at half the rate of an effort-1 point's.
+  PointCache single(w, h);
+  ShadeBatch one = full_plane(frame, 0.0f, 0.5f, 0.5f, glm::vec3(0.5f));
+  one.results[0].effort = 4;
+  single.insert(frame, one, kIdentity);
+  for (int k = 0; k < 20; ++k) single.project(frame, kIdentity);
+  EpiImage epi(w, h);
+  single.fill_epi(epi);
+  EXPECT_EQ(sample_age(epi.color[0]), 10);  // 20 x 1/2
+  EXPECT_EQ(sample_age(epi.color[1]), 20);  // effort 1: factor 1
+}
+
 // With the cloud full, new results overwrite the oldest points, not the next slots in round-robin
 // order: slots 0..255 are refreshed in place (same surface), 256..294 stay old, the cursor is at 0.
 TEST(PointCache, AFullCloudEvictsItsOldestPointsNeverThoseOfThisFrame) {

@@ -2,6 +2,7 @@
 // camera extrapolation; predictive occupancy against a moving camera over a sampled plane.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <set>
@@ -216,6 +217,54 @@ TEST(Requests, JitteredInsideTheirPixelAndReproducible) {
     EXPECT_EQ(a[k].y, b[k].y);
     EXPECT_NE(a[k].x, c[k].x);  // another frame, another jitter
   }
+}
+
+// Effort where samples are sparse: each request's effort against a brute-force count of the samples
+// in the blocks within one block of its own, on random images (sizes not multiples of the block, one
+// row, one column, one pixel) with regions of different density, requests at the image's corners
+// and edges, and the extremes: no sample anywhere (the most effort), every pixel a sample (1), a
+// non-finite request (left at 1) and most <= 1 (all 1).
+TEST(SparseEffort, EachRequestTakesTheSquareRootOfItsNeighbourhoodsSparseness) {
+  std::mt19937 rng(11);
+  const float rgb[3] = {0.5f, 0.5f, 0.5f};
+  const int sizes[][2] = {{1, 1}, {1, 37}, {53, 1}, {64, 64}, {61, 45}, {200, 130}};
+  for (const auto& [w, h] : sizes)
+    for (int pattern = 0; pattern < 4; ++pattern) {
+      EpiImage epi(w, h);
+      std::uniform_real_distribution<double> unit(0.0, 1.0);
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          // 0: empty; 1: full; 2, 3: a sparse left part and a dense right part, at random
+          const double density = pattern == 0 ? 0.0 : pattern == 1 ? 1.0 : x < w / 2 ? 0.02 * pattern : 0.6;
+          if (unit(rng) < density) epi.set_sample(x, y, 0.5, 0.5, rgb);
+        }
+      std::vector<ShadeRequest> requests;
+      for (int k = 0; k < 300; ++k) requests.push_back({uint32_t(k), float(unit(rng) * w), float(unit(rng) * h)});
+      requests.push_back({300, 0.0f, 0.0f});
+      requests.push_back({301, std::nextafter(float(w), 0.0f), std::nextafter(float(h), 0.0f)});
+      requests.push_back({302, std::numeric_limits<float>::quiet_NaN(), 1.0f});
+      for (const int most : {1, 4, 9}) {
+        std::vector<uint32_t> counts;
+        set_sparse_effort(requests, epi, 0.3f, most, counts);
+        for (const ShadeRequest& r : requests) {
+          int expected = 1;
+          if (most > 1 && std::isfinite(r.x)) {
+            const int bx = int(r.x) / kEffortBlock, by = int(r.y) / kEffortBlock;
+            int samples = 0, pixels = 0;
+            for (int y = 0; y < h; ++y)
+              for (int x = 0; x < w; ++x)
+                if (std::abs(x / kEffortBlock - bx) <= 1 && std::abs(y / kEffortBlock - by) <= 1)
+                  ++pixels, samples += has_sample(epi.edge[epi.index(x, y)]);
+            expected = samples == 0 ? most
+                                    : std::clamp(int(std::lround(std::sqrt(0.3 * pixels / samples))), 1, most);
+          }
+          ASSERT_EQ(int(r.effort), expected) << w << "x" << h << " pattern " << pattern << " most " << most << " at "
+                                             << r.x << ", " << r.y;
+        }
+        if (pattern == 0 && most > 1) EXPECT_EQ(int(requests[0].effort), most);
+        if (pattern == 1) EXPECT_EQ(int(requests[0].effort), 1);
+      }
+    }
 }
 
 TEST(Predict, CameraExtrapolatesLinearly) {

@@ -477,5 +477,68 @@ TEST(Analytic, MirrorLikeFloorReflectsAnAreaLight) {
   EXPECT_LT(glossy_error, 0.5 * direct_error);
 }
 
+// A request's effort (ShadeRequest::effort) multiplies the primary hit's estimates: with effort k
+// the shader gives the bits a shader with k times the area-light samples, glossy rays and gi paths
+// gives (and traces as many rays), for each shader kind; effort 0 counts as 1; and the estimate's
+// spread over many points of a penumbra shrinks at least as 1 / sqrt(k).
+TEST(Analytic, EffortMultipliesThePrimaryHitsSampleCounts) {
+  Scene scene;
+  uint32_t floor = test::add_material(scene, glm::vec3(0.7f), 0.0f, 0.4f);  // a glossy dielectric
+  test::add_object(scene, test::quad_mesh({-10, -10, 0}, {20, 0, 0}, {0, 20, 0}, floor), "floor");
+  uint32_t grey = test::add_material(scene, glm::vec3(0.5f));
+  test::add_object(scene, test::quad_mesh({-0.4f, -0.4f, 0.5f}, {0.8f, 0, 0}, {0, 0.8f, 0}, grey), "blocker");
+  uint32_t emitter = test::add_material(scene, glm::vec3(0.0f), 0.0f, 1.0f, glm::vec3(4.0f));
+  uint32_t light = test::add_object(scene, test::quad_mesh({-0.5f, -0.5f, 1.5f}, {0, 1, 0}, {1, 0, 0}, emitter), "panel");
+  test::add_area_light(scene, light);
+  RayScene rays(scene);
+  const View view{test::look({3, 0.5f, 3}, {0, 0, 0}), 64, 64};
+  const ViewFrame frame(view);
+  for (const ShaderKind kind : {ShaderKind::direct, ShaderKind::glossy, ShaderKind::gi}) {
+    ShaderSettings settings;
+    settings.kind = kind, settings.area_light_samples = 4, settings.glossy_samples = 2, settings.gi_paths = 2;
+    const Shader shader(rays, settings);
+    for (const int effort : {0, 1, 3, 5}) {
+      const Shader reference(rays, with_effort(settings, std::max(effort, 1)));
+      for (float x : {20.5f, 31.25f, 40.75f}) {
+        ShadeRequest request{0, x, 33.5f};
+        request.effort = uint8_t(effort);
+        std::vector<BlockerTriple> triples, reference_triples;
+        uint64_t n = 0, reference_n = 0;
+        const ShadeResult r = shader.shade_one(frame, request, triples, n);
+        request.effort = 1;
+        const ShadeResult e = reference.shade_one(frame, request, reference_triples, reference_n);
+        ASSERT_TRUE(r.hit);
+        EXPECT_EQ(int(r.effort), std::max(effort, 1));
+        EXPECT_EQ(n, reference_n);
+        EXPECT_EQ(r.color, e.color) << int(kind) << " effort " << effort << " at " << x;
+        EXPECT_EQ(r.view_dependent, e.view_dependent);
+        EXPECT_EQ(triples, reference_triples);
+      }
+    }
+  }
+  // The spread of the direct estimate in the penumbra, effort 1 against 4.
+  ShaderSettings settings = lambert_settings();
+  settings.area_light_samples = 4;
+  const Shader shader(rays, settings);
+  auto spread = [&](int effort) {
+    double sum = 0.0, sum2 = 0.0;
+    const int n = 400;
+    for (int k = 0; k < n; ++k) {
+      const glm::vec3 target(0.55f + 0.0001f * float(k % 20), 0.0f, 0.0f);  // same irradiance, other streams
+      const Projection p = project(view, target);
+      ShadeRequest request{0, p.pixel.x + 0.001f * float(k / 20), p.pixel.y};
+      request.effort = uint8_t(effort);
+      ShadeBatch batch;
+      shader.shade(view, std::span(&request, 1), batch);
+      const double v = batch.results[0].color.x;
+      sum += v, sum2 += v * v;
+    }
+    return std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)));
+  };
+  const double one = spread(1), four = spread(4);
+  EXPECT_GT(one, 0.0);
+  EXPECT_LT(four, 0.5 * one);  // 1 / sqrt(4) or better (the samples are stratified)
+}
+
 }  // namespace
 }  // namespace epi
