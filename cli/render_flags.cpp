@@ -135,8 +135,8 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
                  "an edge-stopping smooth interpolation of the samples (docs/render.md)");
     app.add_option("--sparse-effort", render.sparse_effort,
                    "epi mode: a request where the EPI's samples are sparse (one result shown over many pixels) "
-                   "takes up to this many times the shader's sample counts; 1: off (docs/render.md, \"Effort where "
-                   "samples are sparse\")")
+                   "takes up to this many times the shader's sample counts, in the asynchronous loop while the shader "
+                   "keeps up; 1: off (docs/render.md, \"Effort where samples are sparse\")")
         ->check(CLI::Range(1, 64))
         ->capture_default_str();
     app.add_flag("!--no-punctual-highlights", render.punctual_highlights,

@@ -59,7 +59,7 @@ struct RenderOptions {
   bool trace_ahead = true;  // FrameSettings::trace_ahead (render.md, "Requests traced ahead")
   double rest_sample_budget = render::FrameSettings{}.rest_sample_budget;  // (render.md, "Idle shading at rest")
   bool sparse_blend = true;        // epi mode: sparse regions smoothed (render.md, "Sparse regions")
-  int sparse_effort = 4;           // epi mode: most effort of a request in a sparse region (render.md)
+  int sparse_effort = 1;           // epi mode: most effort of a request in a sparse region (render.md; 1: off)
   bool punctual_highlights = true; // epi mode: punctual lights' highlights recomputed per frame (render.md, "Punctual highlights")
   bool soft_shadow_edges = false;  // epi mode: the paper's umbral and penumbral edges (render.md, "Soft-shadow edges")
   // epi mode: how far a lone nearer point hides what lies behind it (PointCacheSettings; render.md,

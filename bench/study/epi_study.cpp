@@ -140,7 +140,7 @@ std::vector<Setting> all_settings() {
     s.push_back({"cache_size", name, [f](Config& c) { c.frame.cache.capacity_factor = f; }});
   }
   s.push_back({"refine", "off", [](Config& c) { c.frame.cache.refine = false; }});
-  for (int most : {1, 2, 8})
+  for (int most : {2, 4, 8})
     s.push_back({"sparse_effort", std::to_string(most), [most](Config& c) { c.frame.sparse_effort = most; }});
   s.push_back({"schedule", "tiled (fused)", [](Config& c) { c.frame.stage_timings = false; }});
   s.push_back({"simd", "oracle", [](Config& c) { c.frame.kernels.oracle = true; }});

@@ -92,7 +92,9 @@ struct FrameSettings {
   // sample counts (set_sparse_effort, sampling.h; docs/render.md, "Effort where samples are
   // sparse"); 1: off. In the asynchronous loop only while the shader keeps up: the most effort
   // halves after a frame whose requests the shader did not finish and grows by 1 after one it did.
-  int sparse_effort = 4;
+  // Off by default: rooms' frames along its path 0.89x the error, the others' the same, but on two
+  // cores the shader's extra work slows the loop (0.81-0.95x the frame rate).
+  int sparse_effort = 1;
   SparseBlendSettings sparse;
   bool occlusion_culling = true;
   // Points behind the tangent plane of a nearer point with no geometric edge between them are not

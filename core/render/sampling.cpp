@@ -234,8 +234,14 @@ void set_sparse_effort(std::span<ShadeRequest> requests, const EpiImage& epi, fl
   counts.assign(size_t(bw) * size_t(bh), 0);
   tbb::parallel_for(0, bh, [&](int by) {
     uint32_t* row = counts.data() + size_t(by) * size_t(bw);
-    for (int y = by * B; y < std::min(h, (by + 1) * B); ++y)
-      for (int x = 0; x < w; ++x) row[x / B] += has_sample(epi.edge[epi.index(x, y)]);
+    for (int y = by * B; y < std::min(h, (by + 1) * B); ++y) {
+      const uint16_t* edge = epi.edge.data() + epi.index(0, y);
+      for (int bx = 0; bx < bw; ++bx) {
+        uint32_t n = 0;
+        for (int x = bx * B; x < std::min(w, (bx + 1) * B); ++x) n += has_sample(edge[x]);
+        row[bx] += n;
+      }
+    }
   });
   const uint8_t most8 = uint8_t(std::min(most, 255));
   for (ShadeRequest& r : requests) {

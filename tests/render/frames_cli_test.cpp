@@ -215,6 +215,32 @@ TEST(FramesCli, SparseBlendIsOnByDefaultAndCanBeTurnedOff) {
   fs::remove_all(dir);
 }
 
+// --sparse-effort: off by default (every request effort 1, as the stats say); 4 along rooms' walk
+// asks for more where the EPI is sparse and changes the image; 0 and 65 are refused by name.
+TEST(FramesCli, SparseEffortIsOffByDefaultAndAsksForMoreWhereSamplesAreSparse) {
+  const fs::path dir = temp_dir();
+  const std::string base = "render " + std::string(EPI_SOURCE_DIR) +
+                           "/scenes/rooms.gltf --sync --size 64x48 --frames 20 --quiet --no-speedup";
+  for (const auto& [args, name] : {std::pair{"", "off"}, {" --sparse-effort 4", "on"}}) {
+    const EpiRun run = run_epi(base + args + " -o " + (dir / name).string() + ".exr --stats " + (dir / name).string() + ".json");
+    ASSERT_EQ(run.exit_code, 0) << run.out;
+  }
+  auto effort = [&](const char* name) {
+    return nlohmann::json::parse(read_file(dir / (std::string(name) + ".json")))["effort_per_request"].get<double>();
+  };
+  EXPECT_EQ(effort("off"), 1.0);
+  EXPECT_GT(effort("on"), 1.2);
+  EXPECT_LE(effort("on"), 4.0);
+  EXPECT_NE(read_file(dir / "on.exr"), read_file(dir / "off.exr"));
+  for (const char* bad : {"0", "65"}) {
+    const EpiRun run = run_epi(base + " --sparse-effort " + bad + " -o " + (dir / "bad.exr").string());
+    EXPECT_NE(run.exit_code, 0);
+    EXPECT_NE(run.out.find("--sparse-effort"), std::string::npos) << run.out;
+    EXPECT_FALSE(fs::exists(dir / "bad.exr"));
+  }
+  fs::remove_all(dir);
+}
+
 // --no-trace-ahead: a sync run integrates each frame's results in that frame (lag 0), so nothing
 // is extrapolated and the bytes are the same; the asynchronous loop reports its lag (about 2),
 // averaged over the frames that integrated results: at least one frame, however loaded the machine
