@@ -276,6 +276,12 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
                            : 1;
   set_sparse_effort(shot.requests, epi_, settings_.sparse.dense, stats_.most_effort, effort_counts_);
   shots.insert(shots.begin(), std::move(shot));
+  // Triples only for the edges this renderer draws (docs/render.md, "Triples only where used").
+  const Blockers blockers = settings_.mode != RenderMode::epi || !settings_.shadow_edges ? Blockers::none
+                            : settings_.soft_shadow_edges                                  ? Blockers::all
+                                                                                           : Blockers::punctual;
+  for (NewShot& s : shots)
+    for (ShadeRequest& r : s.requests) r.blockers = blockers;
 
   // Async: the shader may get through only a prefix before the next frame cancels the rest, so
   // the requests go in a shuffled order (see render() for the interleaving of the shots).

@@ -103,6 +103,7 @@ struct Shader::Tracer {
   std::vector<BlockerTriple>* triples;  // null: do not record
   size_t first_triple = 0;
   uint64_t rays = 0;
+  bool area_triples = true;  // with triples: area lights' too (ShadeRequest::blockers)
 
   RayHit trace(const Ray& ray) {
     ++rays;
@@ -166,14 +167,14 @@ struct Shader::Tracer {
   bool visible(const Surface& s, const Ray& shadow_ray, uint32_t light, uint32_t light_object) {
     ++rays;
     // An unblocked ray costs about the same either way; a blocked one is named by intersect.
-    if (!triples || !settings.record_blockers) return !scene.occluded(shadow_ray);
+    const bool punctual = light < scene.punctual_lights().size();
+    if (!triples || !settings.record_blockers || (!punctual && !area_triples)) return !scene.occluded(shadow_ray);
     RayHit hit = scene.intersect(shadow_ray);
     if (!hit.hit) return true;
     if (hit.object != light_object) {
       BlockerTriple t{light, hit.object, s.object};
       // Hard shadows only: area lights' triples (soft edges, off by default) are kept as found,
       // since their many samples per result would pay the check many times.
-      const bool punctual = light < scene.punctual_lights().size();
       if (std::find(triples->begin() + std::ptrdiff_t(first_triple), triples->end(), t) == triples->end() &&
           (!punctual || sole_blocker(shadow_ray, hit, light_object)))
         triples->push_back(t);
@@ -483,7 +484,8 @@ ShadeResult Shader::shade_one(const ViewFrame& frame, const ShadeRequest& reques
   if (!std::isfinite(request.x) || !std::isfinite(request.y)) return result;  // no ray: a miss
   ShaderSettings scaled;
   const ShaderSettings& settings = request.effort > 1 ? (scaled = with_effort(settings_, request.effort), scaled) : settings_;
-  Tracer tracer{scene_, settings, &triples, triples.size(), 0};
+  Tracer tracer{scene_, settings, request.blockers == Blockers::none ? nullptr : &triples, triples.size(), 0,
+                request.blockers == Blockers::all};
   Ray ray = frame.ray(request.x, request.y);
   RayHit hit = tracer.trace(ray);
   if (hit.hit) {

@@ -36,6 +36,11 @@ struct ShaderSettings {
 // multiplied by effort (ShadeRequest::effort).
 ShaderSettings with_effort(const ShaderSettings& settings, int effort);
 
+// Which lights' blocked shadow rays name their blocker (BlockerTriple) for a request: a triple
+// costs a closest-hit ray where an any-hit one answers visibility, and the sole-blocker check a ray
+// more. The renderer asks only for those its edges use (docs/render.md, "Triples only where used").
+enum class Blockers : uint8_t { all, punctual, none };
+
 struct ShadeRequest {
   uint32_t id = 0;
   float x = 0.0f, y = 0.0f;  // pixel position with sub-pixel offset (see view.h); may lie outside the image; non-finite: a miss
@@ -43,6 +48,7 @@ struct ShadeRequest {
   // their settings' counts (0 counts as 1): the renderer spends more where one result will be
   // spread over many pixels (docs/render.md, "Effort where samples are sparse").
   uint8_t effort = 1;
+  Blockers blockers = Blockers::all;  // with ShaderSettings::record_blockers (none where that is false)
 };
 
 // A light whose shadow ray from the receiver was blocked by the blocker object.

@@ -1,4 +1,6 @@
 // Shadows and the light-blocker-receiver triples; moving objects.
+#include <algorithm>
+
 #include <gtest/gtest.h>
 
 #include "shade/shader.h"
@@ -149,6 +151,43 @@ TEST(Shadows, RecordingBlockersDoesNotChangeColours) {
   EXPECT_FALSE(a.triples.empty());
   EXPECT_TRUE(b.triples.empty());
   for (size_t i = 0; i < points.size(); ++i) EXPECT_EQ(a.results[i].color, b.results[i].color) << i;
+}
+
+// ShadeRequest::blockers: `punctual` names the point light's blockers only, `none` none, and
+// neither changes a colour; `all` names the area light's too (the blocker seen from the
+// penumbra at (-3, 0)). Fewer rays without the point light's sole-blocker checks.
+TEST(Shadows, ARequestNamesOnlyTheBlockersItAsksFor) {
+  ShadowScene s = make_shadow_scene(true);
+  RayScene rays(s.scene);
+  Shader shader(rays, ShaderSettings{});
+  std::vector<glm::vec3> points;
+  for (int i = 0; i < 40; ++i) points.push_back({-3.0f + 0.2f * float(i), 0.1f * float(i % 7) - 0.3f, 0.0f});
+  auto shade = [&](Blockers blockers) {
+    std::vector<ShadeRequest> requests;
+    for (size_t i = 0; i < points.size(); ++i) {
+      const Projection p = project(kView, points[i]);
+      requests.push_back({uint32_t(i), p.pixel.x, p.pixel.y});
+      requests.back().blockers = blockers;
+    }
+    ShadeBatch batch;
+    shader.shade(kView, requests, batch);
+    return batch;
+  };
+  const ShadeBatch all = shade(Blockers::all), punctual = shade(Blockers::punctual), none = shade(Blockers::none);
+  auto lights = [](const ShadeBatch& b, bool area) {
+    return std::count_if(b.triples.begin(), b.triples.end(), [&](const BlockerTriple& t) { return (t.light >= 1) == area; });
+  };
+  EXPECT_GT(lights(all, true), 0);
+  EXPECT_GT(lights(all, false), 0);
+  EXPECT_EQ(lights(punctual, true), 0);
+  EXPECT_EQ(lights(punctual, false), lights(all, false));
+  EXPECT_TRUE(none.triples.empty());
+  EXPECT_LT(none.rays, punctual.rays);
+  EXPECT_EQ(punctual.rays, all.rays);  // an any-hit ray for each area sample instead of a closest-hit one
+  for (size_t i = 0; i < points.size(); ++i) {
+    EXPECT_EQ(all.results[i].color, punctual.results[i].color) << i;
+    EXPECT_EQ(all.results[i].color, none.results[i].color) << i;
+  }
 }
 
 TEST(Shadows, MovingTheBlockerMovesTheShadow) {
