@@ -142,6 +142,7 @@ class Viewer {
     s.frame.seed = options.render.seed;
     s.frame.soft_shadow_edges = options.render.soft_shadow_edges;
     s.frame.sparse_blend = options.render.sparse_blend;
+    s.frame.sparse_effort = options.render.sparse_effort;
     if (!options.render.punctual_highlights) s.frame.cache.punctual_highlight_share = render::PointCacheSettings::kNoPunctualHighlights;
     s.frame.trace_ahead = options.render.trace_ahead;
     s.frame.rest_sample_budget = options.render.rest_sample_budget;

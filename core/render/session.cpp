@@ -55,7 +55,7 @@ bool same_frame_settings(const FrameSettings& a, const FrameSettings& b) {
          a.stage_timings == b.stage_timings && a.shader_threads == b.shader_threads && a.view_edges == b.view_edges &&
          a.shadow_edges == b.shadow_edges && a.soft_shadow_edges == b.soft_shadow_edges &&
          a.occlusion_culling == b.occlusion_culling && a.occlusion_test == b.occlusion_test && a.fill_holes == b.fill_holes &&
-         a.sparse_blend == b.sparse_blend &&
+         a.sparse_blend == b.sparse_blend && a.sparse_effort == b.sparse_effort &&
          a.cache.sparse_occlusion_radius == b.cache.sparse_occlusion_radius &&
          a.cache.new_occluder_radius == b.cache.new_occluder_radius &&
          a.cache.punctual_highlight_share == b.cache.punctual_highlight_share && a.trace_ahead == b.trace_ahead;

@@ -89,6 +89,9 @@ TEST(Session, AChangedFrameSettingRebuildsTheLoop) {
   SessionSettings soft = base;
   soft.frame.soft_shadow_edges = !soft.frame.soft_shadow_edges;
   EXPECT_TRUE(base.needs_rebuild(soft));
+  SessionSettings effort = base;  // epi-viewer --sparse-effort
+  effort.frame.sparse_effort = 4;
+  EXPECT_TRUE(base.needs_rebuild(effort));
 }
 
 // A rebuild of the loop for another window size or budget keeps the scene's edge finder (its
