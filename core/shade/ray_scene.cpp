@@ -299,6 +299,29 @@ bool RayScene::occluded(const Ray& ray) const {
   return r.tfar < 0.0f;
 }
 
+void RayScene::occluded16(const Ray* rays, size_t count, bool* blocked) const {
+  count = std::min<size_t>(count, 16);
+  if (count == 0) return;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  alignas(64) RTCRay16 r;
+  alignas(64) int valid[16];
+  for (size_t i = 0; i < 16; ++i) {
+    const Ray& ray = rays[std::min(i, count - 1)];
+    valid[i] = i < count ? -1 : 0;
+    r.org_x[i] = ray.origin.x, r.org_y[i] = ray.origin.y, r.org_z[i] = ray.origin.z;
+    r.dir_x[i] = ray.direction.x, r.dir_y[i] = ray.direction.y, r.dir_z[i] = ray.direction.z;
+    r.tnear[i] = ray.tnear;
+    r.tfar[i] = ray.tfar;
+    r.time[i] = 0.0f;
+    r.mask[i] = 0xffffffffu;
+    r.id[i] = unsigned(i);
+    r.flags[i] = 0;
+  }
+  rtcOccluded16(valid, top_, &context, &r);
+  for (size_t i = 0; i < count; ++i) blocked[i] = r.tfar[i] < 0.0f;
+}
+
 std::vector<MemoryItem> RayScene::memory() const {
   size_t light_bytes = 0;
   for (const AreaLight& light : area_lights_) light_bytes += light.memory_bytes();

@@ -97,6 +97,9 @@ struct Shader::Surface {
 };
 
 // Everything one request needs while tracing: counters and the triples it met.
+// Area-light samples per hit from which their shadow rays go as packets (RayScene::occluded16).
+constexpr int kPacketMinSamples = 4;
+
 struct Shader::Tracer {
   const RayScene& scene;
   const ShaderSettings& settings;
@@ -216,14 +219,21 @@ struct Shader::Tracer {
     return {f.diffuse * incoming * cos_s, f.specular * incoming * cos_s};
   }
 
-  // One area-light sample: light by power, triangle by power, point uniformly; u picks the
-  // triangle and the point, u0 the light. Returns reflected radiance / pdf per lobe, MIS-weighted
-  // against mis.brdf BRDF samples when the path tracer also reaches lights by BRDF sampling.
-  BrdfValue area_sample(const Surface& s, const BrdfParams& brdf, float u0, glm::vec2 u, MisCounts mis) {
+  // One area-light sample before its shadow ray: light by power, triangle by power, point
+  // uniformly; u picks the triangle and the point, u0 the light. `value`: reflected radiance / pdf
+  // per lobe if the light is visible, MIS-weighted against mis.brdf BRDF samples when the path
+  // tracer also reaches lights by BRDF sampling; false where the sample adds nothing whatever the
+  // shadow ray finds.
+  struct AreaSample {
+    Ray shadow;
+    uint32_t light = 0, light_object = 0;  // the light's number (punctual lights first) and object
+    BrdfValue value;
+  };
+  bool prepare_area_sample(const Surface& s, const BrdfParams& brdf, float u0, glm::vec2 u, MisCounts mis, AreaSample& out) {
     const std::vector<AreaLight>& lights = scene.area_lights();
     size_t l = pick(scene.area_light_cdf(), u0);
     const AreaLight& light = lights[l];
-    if (light.triangle_cdf.empty()) return {};
+    if (light.triangle_cdf.empty()) return false;
     size_t k = pick(light.triangle_cdf, u.x);
     const glm::vec3* v = &light.triangle_vertices[3 * k];
     glm::vec3 b = sample_triangle(u.x, u.y);
@@ -232,20 +242,20 @@ struct Shader::Tracer {
     float double_area = glm::length(cross);
     glm::vec3 to_light = point - s.position;
     float d2 = glm::dot(to_light, to_light);
-    if (!(double_area > 0.0f) || !(d2 > 0.0f)) return {};
+    if (!(double_area > 0.0f) || !(d2 > 0.0f)) return false;
     float distance = std::sqrt(d2);
     glm::vec3 wi = to_light / distance;
     float cos_light = -glm::dot(cross / double_area, wi);  // emission leaves the front face
     float cos_s = glm::dot(s.shading_normal, wi);
-    if (cos_light <= 0.0f || cos_s <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f) return {};
+    if (cos_light <= 0.0f || cos_s <= 0.0f || glm::dot(s.geometric_normal, wi) <= 0.0f) return false;
     BrdfValue lobes = eval_brdf_lobes(brdf, s.shading_normal, s.wo, wi);
     const glm::vec3& emission = scene.scene().materials[light.triangle_materials[k]].emission;
-    if (max_component(lobes.sum()) <= 0.0f || max_component(emission) <= 0.0f) return {};
+    if (max_component(lobes.sum()) <= 0.0f || max_component(emission) <= 0.0f) return false;
     float pdf_area = probability(scene.area_light_cdf(), l) * probability(light.triangle_cdf, k) / (0.5f * double_area);
     float light_offset = settings.ray_offset * std::max(1.0f, max_abs(point));
-    Ray shadow = spawn_to(s, point, wi, light_offset);
-    uint32_t number = uint32_t(scene.punctual_lights().size() + l);
-    if (!visible(s, shadow, number, light.object)) return {};
+    out.shadow = spawn_to(s, point, wi, light_offset);
+    out.light = uint32_t(scene.punctual_lights().size() + l);
+    out.light_object = light.object;
     BrdfValue f = lobes;
     if (mis.brdf > 0 && scene.area_light_mapped(l)) {
       float pdf_light = pdf_area * d2 / cos_light;  // solid angle
@@ -258,7 +268,14 @@ struct Shader::Tracer {
       }
     }
     const glm::vec3 scale = emission * (cos_s * cos_light / (d2 * pdf_area));
-    return {f.diffuse * scale, f.specular * scale};
+    out.value = {f.diffuse * scale, f.specular * scale};
+    return true;
+  }
+
+  BrdfValue area_sample(const Surface& s, const BrdfParams& brdf, float u0, glm::vec2 u, MisCounts mis) {
+    AreaSample a;
+    if (!prepare_area_sample(s, brdf, u0, u, mis, a) || !visible(s, a.shadow, a.light, a.light_object)) return {};
+    return a.value;
   }
 
   // Solid-angle density with which one area-light sample from s picks the point hit on an
@@ -300,12 +317,34 @@ struct Shader::Tracer {
     }
     if (n > 0 && has_area_lights()) {
       BrdfValue area;
+      // Where no triple is recorded, the samples' shadow rays leave from one point towards the
+      // lights: traced 16 at a time as a coherent packet, then summed in sample order (the same
+      // bits as one at a time: docs/render.md, "Shadow rays in packets").
+      const bool packets = n >= kPacketMinSamples && (!triples || !settings.record_blockers || !area_triples);
+      Ray shadows[16];
+      BrdfValue values[16];
+      int batched = 0;
+      auto flush = [&] {
+        bool blocked[16];
+        scene.occluded16(shadows, size_t(batched), blocked);
+        rays += uint64_t(batched);
+        for (int i = 0; i < batched; ++i)
+          if (!blocked[i]) add(area, values[i]);
+        batched = 0;
+      };
       for (int j = 0; j < n; ++j) {
         Rng own = stream ? Rng(0) : Rng(key, kStreamArea, uint64_t(j));
         Rng& rng = stream ? *stream : own;
         glm::vec2 u = stratified(j, n, rng);
-        add(area, area_sample(s, brdf, rng.uniform(), u, MisCounts{n, brdf_samples, specular_only}));
+        const MisCounts mis{n, brdf_samples, specular_only};
+        if (!packets) {
+          add(area, area_sample(s, brdf, rng.uniform(), u, mis));
+        } else if (AreaSample a; prepare_area_sample(s, brdf, rng.uniform(), u, mis, a)) {
+          shadows[batched] = a.shadow, values[batched] = a.value;
+          if (++batched == 16) flush();
+        }
       }
+      if (batched > 0) flush();
       sum.diffuse += area.diffuse / float(n), sum.specular += area.specular / float(n);
     }
     return sum;
