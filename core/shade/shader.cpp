@@ -96,10 +96,10 @@ struct Shader::Surface {
   float offset = 0.0f;  // absolute ray-start offset
 };
 
-// Everything one request needs while tracing: counters and the triples it met.
 // Area-light samples per hit from which their shadow rays go as packets (RayScene::occluded16).
 constexpr int kPacketMinSamples = 4;
 
+// Everything one request needs while tracing: counters and the triples it met.
 struct Shader::Tracer {
   const RayScene& scene;
   const ShaderSettings& settings;
@@ -318,7 +318,7 @@ struct Shader::Tracer {
     if (n > 0 && has_area_lights()) {
       BrdfValue area;
       // Where no triple is recorded, the samples' shadow rays leave from one point towards the
-      // lights: traced 16 at a time as a coherent packet, then summed in sample order (the same
+      // lights: traced 16 at a time as a packet, then summed in sample order (the same
       // bits as one at a time: docs/render.md, "Shadow rays in packets").
       const bool packets = n >= kPacketMinSamples && (!triples || !settings.record_blockers || !area_triples);
       Ray shadows[16];
