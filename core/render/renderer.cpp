@@ -289,9 +289,8 @@ std::vector<FrameRenderer::NewShot> FrameRenderer::choose_requests(const ViewFra
     for (size_t k = 0; k < shots.size(); ++k) shuffle_requests(shots[k].requests, settings_.seed, uint64_t(index) * 2 + k);
   // Ids, and the record of which view and placement each id was made for.
   for (NewShot& s : shots) {
-    for (ShadeRequest& r : s.requests) r.id = next_id_++;
+    for (ShadeRequest& r : s.requests) r.id = next_id_++, stats_.effort += std::max<uint8_t>(r.effort, 1);
     stats_.requested += s.requests.size();
-    for (const ShadeRequest& r : s.requests) stats_.effort += std::max<uint8_t>(r.effort, 1);
     shots_.push_back({s.requests.empty() ? next_id_ : s.requests.front().id, uint32_t(s.requests.size()), frame_, s.frame,
                       placement_});
   }

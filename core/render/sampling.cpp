@@ -1,6 +1,7 @@
 #include "render/sampling.h"
 
 #include "render/point_projection.h"
+#include "render/sparse_blend.h"
 
 #include <algorithm>
 #include <array>
@@ -229,20 +230,10 @@ void set_sparse_effort(std::span<ShadeRequest> requests, const EpiImage& epi, fl
                        std::vector<uint32_t>& counts) {
   for (ShadeRequest& r : requests) r.effort = 1;
   if (most <= 1 || requests.empty() || epi.width <= 0 || epi.height <= 0) return;
-  constexpr int B = kEffortBlock;
+  constexpr int B = kSparseBlendBlock;
   const int w = epi.width, h = epi.height, bw = (w + B - 1) / B, bh = (h + B - 1) / B;
-  counts.assign(size_t(bw) * size_t(bh), 0);
-  tbb::parallel_for(0, bh, [&](int by) {
-    uint32_t* row = counts.data() + size_t(by) * size_t(bw);
-    for (int y = by * B; y < std::min(h, (by + 1) * B); ++y) {
-      const uint16_t* edge = epi.edge.data() + epi.index(0, y);
-      for (int bx = 0; bx < bw; ++bx) {
-        uint32_t n = 0;
-        for (int x = bx * B; x < std::min(w, (bx + 1) * B); ++x) n += has_sample(edge[x]);
-        row[bx] += n;
-      }
-    }
-  });
+  counts.resize(size_t(bw) * size_t(bh));
+  tbb::parallel_for(0, bh, [&](int by) { count_block_samples(epi, by, counts.data() + size_t(by) * size_t(bw)); });
   const uint8_t most8 = uint8_t(std::min(most, 255));
   for (ShadeRequest& r : requests) {
     if (!std::isfinite(r.x) || !std::isfinite(r.y)) continue;

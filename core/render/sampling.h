@@ -48,9 +48,8 @@ void make_requests(std::span<const uint32_t> pixels, int width, uint64_t seed, u
 // hold a sample, so its noise weighs in proportion to that footprint; the samples that minimize
 // the summed error go in proportion to its square root (Neyman's allocation). Each request's
 // effort becomes round(sqrt(dense / share)), clamped to [1, most], share counted over the
-// kEffortBlock-square blocks within one block of the request's (`counts`: the blocks' sample
-// counts, the caller's storage). most <= 1: every effort 1.
-inline constexpr int kEffortBlock = 8;
+// kSparseBlendBlock-square blocks (sparse_blend.h) within one block of the request's (`counts`:
+// the blocks' sample counts, the caller's storage). most <= 1: every effort 1.
 void set_sparse_effort(std::span<ShadeRequest> requests, const EpiImage& epi, float dense, int most,
                        std::vector<uint32_t>& counts);
 

@@ -141,18 +141,30 @@ void filter_samples(const EpiImage& epi, std::span<const uint8_t> barrier, const
   }
 }
 
+void count_block_samples(const EpiImage& epi, int by, uint32_t* row) {
+  constexpr int B = kSparseBlendBlock;
+  const int w = epi.width, bw = (w + B - 1) / B;
+  std::fill(row, row + bw, 0u);
+  for (int y = by * B; y < std::min(epi.height, (by + 1) * B); ++y) {
+    const uint16_t* edge = epi.edge.data() + epi.index(0, y);
+    for (int bx = 0; bx < bw; ++bx) {
+      uint32_t n = 0;
+      for (int x = bx * B; x < std::min(w, (bx + 1) * B); ++x) n += has_sample(edge[x]);
+      row[bx] += n;
+    }
+  }
+}
+
 bool any_sparse_block(const EpiImage& epi, float dense) {
   constexpr int B = kSparseBlendBlock;
   const int w = epi.width, h = epi.height;
   return tbb::parallel_reduce(
       tbb::blocked_range<int>(0, (h + B - 1) / B), false,
       [&](const tbb::blocked_range<int>& r, bool any) {
-        std::vector<int> count(size_t((w + B - 1) / B));
+        std::vector<uint32_t> count(size_t((w + B - 1) / B));
         for (int by = r.begin(); by != r.end() && !any; ++by) {
-          std::fill(count.begin(), count.end(), 0);
           const int y1 = std::min(h, (by + 1) * B);
-          for (int y = by * B; y < y1; ++y)
-            for (int x = 0; x < w; ++x) count[size_t(x / B)] += has_sample(epi.edge[epi.index(x, y)]);
+          count_block_samples(epi, by, count.data());
           for (size_t bx = 0; bx < count.size(); ++bx) {
             const int pixels = (std::min(w, int(bx + 1) * B) - int(bx) * B) * (y1 - by * B);
             any |= float(count[bx]) < dense * float(pixels);

@@ -44,6 +44,9 @@ void filter_samples(const EpiImage& epi, std::span<const uint8_t> barrier, const
 // samples than `dense` times its pixels: sparse_blend does nothing in frames where none has.
 inline constexpr int kSparseBlendBlock = 8;
 bool any_sparse_block(const EpiImage& epi, float dense);
+// The samples in each kSparseBlendBlock-square block of block row `by` (cut by the image's
+// border), into row[0 .. blocks across); any_sparse_block's count, shared with set_sparse_effort.
+void count_block_samples(const EpiImage& epi, int by, uint32_t* row);
 
 // In frames with a sparse block (any_sparse_block), blends `image` (the reconstruction of `epi`)
 // towards rgb / weight by t = clamp((dense - weight / mass) / (dense - sparse), 0, 1)

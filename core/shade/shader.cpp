@@ -96,6 +96,9 @@ struct Shader::Surface {
   float offset = 0.0f;  // absolute ray-start offset
 };
 
+// Whether the scene has area lights that emit (their sampling CDF ends at a positive total).
+static bool lights_by_area(const RayScene& scene) { return !scene.area_light_cdf().empty() && scene.area_light_cdf().back() > 0.0f; }
+
 // Area-light samples per hit from which their shadow rays go as packets (RayScene::occluded16).
 constexpr int kPacketMinSamples = 4;
 
@@ -297,7 +300,7 @@ struct Shader::Tracer {
     return probability(scene.area_light_cdf(), l) * probability(light.triangle_cdf, k) / area * d2 / cos_light;
   }
 
-  bool has_area_lights() const { return !scene.area_light_cdf().empty() && scene.area_light_cdf().back() > 0.0f; }
+  bool has_area_lights() const { return lights_by_area(scene); }
 
   // Direct lighting: every punctual light once, area lights with n stratified samples from
   // one stream each (primary hits), or from the given stream (deeper hits). brdf_samples > 0:
@@ -499,8 +502,7 @@ Shader::Shader(const RayScene& scene, const ShaderSettings& settings) : scene_(s
   require(settings.gi_path_clamp >= 0.0f, "gi_path_clamp must not be negative");
   require(settings.ray_offset > 0.0f && settings.ray_offset < 0.1f, "ray_offset must be in (0, 0.1)");
   // (Once, here: in the asynchronous loop the ray scene's lights belong to the shading thread.)
-  const std::vector<float>& cdf = scene.area_light_cdf();
-  const bool area = settings.area_light_samples > 0 && !cdf.empty() && cdf.back() > 0.0f;
+  const bool area = settings.area_light_samples > 0 && lights_by_area(scene);
   const bool glossy = settings.kind == ShaderKind::glossy && settings.specular && settings.glossy_samples > 0;
   const bool gi = settings.kind == ShaderKind::gi && settings.gi_paths > 0 && settings.gi_max_bounces > 0;
   effort_matters_ = area || glossy || gi;

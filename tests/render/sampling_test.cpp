@@ -14,6 +14,7 @@
 #include <tbb/task_arena.h>
 
 #include "render/sampling.h"
+#include "render/sparse_blend.h"
 
 namespace epi::render {
 namespace {
@@ -249,11 +250,11 @@ TEST(SparseEffort, EachRequestTakesTheSquareRootOfItsNeighbourhoodsSparseness) {
         for (const ShadeRequest& r : requests) {
           int expected = 1;
           if (most > 1 && std::isfinite(r.x)) {
-            const int bx = int(r.x) / kEffortBlock, by = int(r.y) / kEffortBlock;
+            const int bx = int(r.x) / kSparseBlendBlock, by = int(r.y) / kSparseBlendBlock;
             int samples = 0, pixels = 0;
             for (int y = 0; y < h; ++y)
               for (int x = 0; x < w; ++x)
-                if (std::abs(x / kEffortBlock - bx) <= 1 && std::abs(y / kEffortBlock - by) <= 1)
+                if (std::abs(x / kSparseBlendBlock - bx) <= 1 && std::abs(y / kSparseBlendBlock - by) <= 1)
                   ++pixels, samples += has_sample(epi.edge[epi.index(x, y)]);
             expected = samples == 0 ? most
                                     : std::clamp(int(std::lround(std::sqrt(0.3 * pixels / samples))), 1, most);
