@@ -95,6 +95,17 @@ render::CameraPath command_camera_path(const RenderOptions& options, const Scene
   return path;
 }
 
+// --frames-at, sorted, each checked against the path's length.
+std::vector<int> path_frames_at(const RenderOptions& options) {
+  std::vector<int> at = options.frames_at;
+  std::sort(at.begin(), at.end());
+  at.erase(std::unique(at.begin(), at.end()), at.end());
+  if (!at.empty() && at.back() >= options.frames)
+    throw std::invalid_argument("--frames-at " + std::to_string(at.back()) + ": beyond the path's last frame, " +
+                                std::to_string(options.frames - 1) + " (--frames " + std::to_string(options.frames) + ")");
+  return at;
+}
+
 }  // namespace
 
 Camera last_frame_camera(const RenderOptions& options, const Scene& scene) {
@@ -107,11 +118,13 @@ int run_render_frames(const RenderOptions& options) {
   if (!options.stats.empty()) check_output_file(options.stats);
   // Every output, each frame's included, checked before any work: writable, and no two alike.
   std::vector<std::string> outputs_named = {options.output, options.stats};
+  const std::vector<int> frames_at = path_frames_at(options);
   if (!options.frames_out.empty())
-    for (int f = 0; f < options.frames; ++f) {
-      outputs_named.push_back(frame_file(options.frames_out, f));
-      check_output_image(outputs_named.back());
-    }
+    for (int f = 0; f < options.frames; ++f)
+      if (frames_at.empty() || std::binary_search(frames_at.begin(), frames_at.end(), f)) {
+        outputs_named.push_back(frame_file(options.frames_out, f));
+        check_output_image(outputs_named.back());
+      }
   if (!options.save_epi.empty()) {
     if (options.mode != "epi") throw std::invalid_argument("--save-epi needs --mode epi");
     check_output_file(options.save_epi);
@@ -182,11 +195,15 @@ int run_render_frames(const RenderOptions& options) {
   double write_frames_ms = 0.0;
   const RgbImage* image = nullptr;
   StagedOutputs outputs;  // frames, image and stats move into place together at the end
+  int loop_frames = 0;     // frames rendered (with --path-rate, as many as the clock allowed)
   const uint64_t rays_before = shader.rays_traced();
   const double shading_seconds_before = shader.shading_seconds();
   {
     ProgressBar bar("frames", options.quiet);
-    for (int f = 0; f < options.frames; ++f) {
+    render::PathClock clock(options.path_rate, options.frames - 1, frames_at);
+    const auto loop_start = Clock::now();
+    while (!clock.done()) {
+      const double f = clock.next(ms_since(loop_start));
       const Camera camera = path.camera_at(f);
       const std::vector<glm::mat4> transforms =
           path.moves_objects() ? path.object_transforms_at(scene, f) : std::vector<glm::mat4>{};
@@ -208,13 +225,15 @@ int run_render_frames(const RenderOptions& options) {
       series.sparse_blended.push_back(double(s.sparse_blended));
       series.integrate.push_back(s.integrate_ms);
       if (s.samples > 0) series.result_lag.push_back(s.result_lag);  // frames that integrated results
-      if (!options.frames_out.empty()) {
+      if (!options.frames_out.empty() && clock.exact()) {
         const auto t = Clock::now();
-        outputs.add_image(frame_file(options.frames_out, f), *image, options.exposure);
+        outputs.add_image(frame_file(options.frames_out, int(f)), *image, options.exposure);
         write_frames_ms += ms_since(t);
+        clock.pause(ms_since(t));
       }
-      bar.update(double(f + 1) / double(options.frames));
+      bar.update(options.frames > 1 ? f / double(options.frames - 1) : 1.0);
     }
+    loop_frames = clock.frames();
   }
   const double run_ms = ms_since(stage) - write_frames_ms;
   // Rays the shader traced during the run (async: up to the last frame; work still in flight
@@ -262,8 +281,11 @@ int run_render_frames(const RenderOptions& options) {
   const std::string sparseness_text = sampled ? std::to_string(int64_t(std::lround(sparseness))) : "-";
   double total_samples = 0.0;
   for (double n : series.samples) total_samples += n;
-  std::printf("%s: %dx%d, %s, %d frames (%s shading), budget %.3f, %s shader, %d threads, %zu triangles\n",
-              options.scene.c_str(), options.width, options.height, options.mode.c_str(), options.frames,
+  char on_clock[96] = "";
+  if (options.path_rate > 0.0)
+    std::snprintf(on_clock, sizeof on_clock, " on the clock (%g a second): %d rendered", options.path_rate, loop_frames);
+  std::printf("%s: %dx%d, %s, %d frames%s (%s shading), budget %.3f, %s shader, %d threads, %zu triangles\n",
+              options.scene.c_str(), options.width, options.height, options.mode.c_str(), options.frames, on_clock,
               options.sync ? "sync" : "async", options.sample_budget, options.shader.c_str(), threads,
               scene.triangle_count());
   std::printf("  per frame (median, ms):");
@@ -297,6 +319,8 @@ int run_render_frames(const RenderOptions& options) {
         {"width", options.width},
         {"height", options.height},
         {"frames", options.frames},
+        {"loop_frames", loop_frames},  // frames rendered: `frames` unless on the clock (path_rate)
+        {"path_rate", options.path_rate},
         {"sync", options.sync},
         {"sample_budget", options.sample_budget},
         {"seed", options.seed},

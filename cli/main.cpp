@@ -34,7 +34,17 @@ int main(int argc, char** argv) {
 #ifdef EPI_WITH_FRAMES
   add_render_options(*render_cmd, render, true);
   render_cmd->add_option("--frames", render.frames, "Frames to run (epi, rendercache); the image is the last frame, whose view reference and raytrace render")->check(CLI::Range(1, 1000000))->capture_default_str();
-  render_cmd->add_option("--frames-out", render.frames_out, "Write every frame, e.g. frames/f%04d.png");
+  render_cmd->add_option("--frames-out", render.frames_out, "Write every frame, e.g. frames/f%04d.png (with --frames-at: those path frames)");
+  render_cmd->add_option("--path-rate", render.path_rate,
+                         "Follow the camera path at this many path frames per second of the loop's own clock, as a "
+                         "viewer shows motion, instead of one path frame per rendered frame: a slower loop shows "
+                         "fewer, farther apart frames (docs/render.md, \"The path on the clock\"). Default 0: off")
+      ->check(kFinite & CLI::Range(0.0, 1e6));
+  render_cmd->add_option("--frames-at", render.frames_at,
+                         "Path frames, e.g. 15,25,59, that --frames-out writes (default: all); with --path-rate each is "
+                         "drawn exactly at its key by the first frame whose clock reaches it")
+      ->delimiter(',')
+      ->check(CLI::Range(0, 999999));
   render_cmd->add_option("--save-epi", render.save_epi, "Write the last frame's EPI snapshot (mode epi), for epi-visualizer");
   render_cmd->add_flag("!--no-speedup", render.speedup,
                        "Skip the 1-spp ray trace of the last view that the speed-up over ray tracing is measured with");

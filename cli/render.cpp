@@ -32,6 +32,9 @@ int run_render(const RenderOptions& options) {
   if (options.mode == "epi" || options.mode == "rendercache") return run_render_frames(options);
 #endif
   if (!options.save_epi.empty()) throw std::invalid_argument("--save-epi needs --mode epi");
+  if (options.path_rate > 0.0 || !options.frames_at.empty())
+    throw std::invalid_argument(std::string(options.path_rate > 0.0 ? "--path-rate" : "--frames-at") +
+                                " needs the frame loop (--mode epi or rendercache)");
   const auto start = Clock::now();
   // Fail on a bad output path before any long work.
   check_output_image(options.output);

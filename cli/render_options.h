@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -55,6 +56,10 @@ struct RenderOptions {
   double sample_budget = 0.02; // fraction of the pixels requested per frame
   std::string camera_path;     // file of camera keys per frame; empty: the scene's path, else still
   std::string frames_out;      // printf-style pattern for every frame's image, e.g. out/f%04d.png
+  // The camera path on the loop's clock (docs/render.md, "The path on the clock"): path frames per
+  // second of the loop's own time; 0: one path frame per rendered frame.
+  double path_rate = 0.0;
+  std::vector<int> frames_at;  // path frames --frames-out writes (empty: all); with path_rate, drawn exactly at them
   std::string save_epi;        // mode epi: the last frame's EPI snapshot (io/snapshot), empty: none
   bool trace_ahead = true;  // FrameSettings::trace_ahead (render.md, "Requests traced ahead")
   double rest_sample_budget = render::FrameSettings{}.rest_sample_budget;  // (render.md, "Idle shading at rest")

@@ -20,6 +20,11 @@ share over 0.2 and a 1-spp ray trace of each chosen view (every pixel shaded onc
 raytrace --spp 1`, the same seed), its RMSE and its share over 0.2.
 --pace N: each key of the path N frames after the last (the path N times slower; 1, the default,
 is the bundled pace of about 6 degrees a frame); the frames compared are those at the chosen keys.
+--rate R: the path on the loop's clock (`epi render --path-rate R`: R path frames a second of the
+loop's own time, as a viewer shows motion; each chosen key is drawn exactly at it by the first
+frame whose clock reaches it), so that a setting that slows the loop shows fewer frames along the
+path instead of the same frames later; the still runs last as long (60 frames held at R frames a
+second). Every table gets the loop's frames a second (median frame time, the runs' mean).
 --settle N: how fast the image settles once the camera stops, in the real loop. Each run follows
 the path and then holds the camera at its last view for N frames (a camera path file: the 60 keys,
 then the last again at frame 59 + N); the frames after the stop are compared with the last
@@ -81,7 +86,10 @@ def main():
     ap.add_argument("--targets", action="store_true")
     ap.add_argument("--settle", type=int, default=0)
     ap.add_argument("--pace", type=int, default=1)
+    ap.add_argument("--rate", type=float, default=0.0)
     a = ap.parse_args()
+    if a.rate > 0 and (a.pace > 1 or a.settle > 0):
+        sys.exit("--rate paces the path by the clock: not with --pace or --settle")
     if a.settle > 0:
         a.frames_at = "59"
         return settle_main(a)
@@ -90,16 +98,17 @@ def main():
     os.makedirs(a.refs, exist_ok=True)
     loop = "sync (every setting passes --sync)" if all("--sync" in t.split() for t in a.settings.split(",")) else \
         "async unless a setting passes --sync"
-    pace = f", each key {a.pace} frames after the last" if a.pace > 1 else ""
+    pace = f", each key {a.pace} frames after the last" if a.pace > 1 else \
+        f", on the loop's clock at {a.rate:g} path frames a second" if a.rate > 0 else ""
     print(f"{size}, {loop}, budget {a.budget}, keys {a.frames_at} of each 60-key path{pace}, seeds {a.seeds}, "
           "64-spp references")
     if a.targets:
         print("| scene | setting | runs | path RMSE | still RMSE | render cache RMSE | path / still | path / render cache "
-              "| > 0.2 path | > 0.2 still | 1-spp ray trace RMSE | > 0.2 1-spp ray trace |")
-        print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+              "| > 0.2 path | > 0.2 still | 1-spp ray trace RMSE | > 0.2 1-spp ray trace | fps along the path |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     else:
-        print("| scene | setting | runs | RMSE (mean, range of runs) | > 0.1 | > 0.2 |")
-        print("|---|---|---|---|---|---|")
+        print("| scene | setting | runs | RMSE (mean, range of runs) | > 0.1 | > 0.2 | fps |")
+        print("|---|---|---|---|---|---|---|")
     for scene in a.scenes:
         name = os.path.splitext(os.path.basename(scene))[0]
         keys = camera_path(scene)
@@ -111,7 +120,8 @@ def main():
             if not a.targets:
                 rmse = [r[0] for r in path]
                 print(f"| {name} | {label} | {len(path)} | {statistics.mean(rmse):.4f} ({min(rmse):.4f}-{max(rmse):.4f}) | "
-                      f"{statistics.mean(r[1] for r in path):.2f} % | {statistics.mean(r[2] for r in path):.2f} % |", flush=True)
+                      f"{statistics.mean(r[1] for r in path):.2f} % | {statistics.mean(r[2] for r in path):.2f} % | "
+                      f"{statistics.mean(r[3] for r in path):.0f} |", flush=True)
                 continue
             still = held_at_keys(a, scene, size, keys, refs, flags)
             rc = along_path(a, scene, size, refs, flags + ["--mode", "rendercache"])
@@ -119,7 +129,7 @@ def main():
             mean = lambda runs, i=0: statistics.mean(r[i] for r in runs)
             print(f"| {name} | {label} | {len(path)} | {mean(path):.4f} | {mean(still):.4f} | {mean(rc):.4f} | "
                   f"{mean(path) / mean(still):.2f} | {mean(path) / mean(rc):.2f} | {mean(path, 2):.2f} % | "
-                  f"{mean(still, 2):.2f} % | {mean(rt):.4f} | {mean(rt, 2):.2f} % |", flush=True)
+                  f"{mean(still, 2):.2f} % | {mean(rt):.4f} | {mean(rt, 2):.2f} % | {mean(path, 3):.0f} |", flush=True)
 
 
 def reference_at(a, scene, size, keys, k):
@@ -192,9 +202,14 @@ def write_path(file, keys, frame_of):
 
 
 def render(a, scene, size, seed, flags, work, frames=60):
+    """Runs `epi render` into the folder `work`; returns the loop's frames a second."""
+    rate = ["--path-rate", f"{a.rate:g}"] if a.rate > 0 else []
+    stats = os.path.join(work, "stats.json")
     subprocess.run([a.epi, "render", scene, "--size", size, "--frames", str(frames), "--sample-budget", a.budget,
-                    "--seed", seed, "--quiet", "--no-speedup", "-o", os.path.join(work, "last.exr")] + flags,
-                   check=True, stdout=subprocess.DEVNULL)
+                    "--seed", seed, "--quiet", "--no-speedup", "--stats", stats, "-o", os.path.join(work, "last.exr")] +
+                   rate + flags, check=True, stdout=subprocess.DEVNULL)
+    with open(stats) as f:
+        return json.load(f)["fps"]
 
 
 def along_path(a, scene, size, refs, flags):
@@ -207,12 +222,13 @@ def along_path(a, scene, size, refs, flags):
             if a.pace > 1:
                 write_path(os.path.join(work, "paced.path"), camera_path(scene), lambda k: k * a.pace)
                 paced = ["--camera-path", os.path.join(work, "paced.path")]
-            render(a, scene, size, seed, flags + paced + ["--frames-out", os.path.join(work, "f%d.exr")], work,
-                   frames=59 * a.pace + 1)
+            at = ["--frames-at", ",".join(str(k * a.pace) for k in refs)]
+            fps = render(a, scene, size, seed, flags + paced + at + ["--frames-out", os.path.join(work, "f%d.exr")], work,
+                         frames=59 * a.pace + 1)
             errors = [compare(a.epi, os.path.join(work, f"f{k * a.pace}.exr"), refs[k]) for k in refs]
         finally:
             shutil.rmtree(work)
-        runs.append(tuple(statistics.mean(e[i] for e in errors) for i in range(3)))
+        runs.append(tuple(statistics.mean(e[i] for e in errors) for i in range(3)) + (fps,))
     return runs
 
 

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -163,6 +164,25 @@ CameraPath read_camera_path(const std::filesystem::path& file, const Scene& scen
   if (s.find('\0') != std::string::npos) throw std::runtime_error(file.string() + ": not a text file");
   return parse_camera_path(s, file.string(), scene);
 }
+
+PathClock::PathClock(double rate, int last_frame, std::vector<int> exact)
+    : rate_(rate), last_(last_frame), exact_(std::move(exact)) {}
+
+double PathClock::next(double clock_ms) {
+  ++frames_;
+  if (rate_ <= 0.0) {
+    position_ = double(frames_ - 1);
+    exact_now_ = exact_.empty() || std::binary_search(exact_.begin(), exact_.end(), frames_ - 1);
+    return position_;
+  }
+  const double clock = std::clamp((clock_ms - paused_ms_) * 1e-3 * rate_, std::max(position_, 0.0), double(last_));
+  exact_now_ = next_exact_ < exact_.size() && double(exact_[next_exact_]) <= clock;
+  position_ = exact_now_ ? double(exact_[next_exact_++]) : clock;
+  return position_;
+}
+
+bool PathClock::done() const { return position_ >= double(last_) && (rate_ <= 0.0 || next_exact_ == exact_.size()); }
+
 
 CameraPath scene_camera_path(const Scene& scene, int frames) {
   CameraPath path;

@@ -47,6 +47,32 @@ struct CameraPath {
   bool moves_lights() const { return !lights.empty(); }
 };
 
+// Where along a path each rendered frame is (docs/render.md, "The path on the clock"). Without a
+// rate, frame f is path frame f. With one, the path advances by the loop's clock: each frame shows
+// the clock's position (rate path frames a second, less the time paused), except that the first
+// frame whose clock reaches one of the `exact` keys is drawn exactly at it, each in turn, so that
+// it can be compared with a reference of that key; the last frame is exactly at the path's end.
+// Positions never decrease. The caller reads the clock (milliseconds since the loop started).
+class PathClock {
+ public:
+  PathClock(double rate, int last_frame, std::vector<int> exact);  // exact: sorted, each in [0, last_frame]
+  double next(double clock_ms);  // the next frame's path position
+  // Whether the last position is a key of `exact` (without a rate and without keys: every frame).
+  bool exact() const { return exact_now_; }
+  bool done() const;  // the path's end was drawn (and every exact key)
+  void pause(double ms) { paused_ms_ += ms; }  // time the loop's clock should not count (writing files)
+  int frames() const { return frames_; }
+
+ private:
+  double rate_;
+  int last_;
+  std::vector<int> exact_;
+  size_t next_exact_ = 0;
+  double paused_ms_ = 0.0, position_ = -1.0;
+  bool exact_now_ = false;
+  int frames_ = 0;
+};
+
 // Parses the text of a path file; errors are std::runtime_error("<source>:<line>: <problem>").
 CameraPath parse_camera_path(std::string_view text, const std::string& source, const Scene& scene);
 CameraPath read_camera_path(const std::filesystem::path& file, const Scene& scene);

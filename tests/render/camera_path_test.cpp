@@ -1,5 +1,9 @@
 // Camera path files: keys, interpolation, object offsets, the scene's own path, and errors
 // that name the file and line.
+#include <cmath>
+#include <random>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "render/camera_path.h"
@@ -164,6 +168,74 @@ TEST(CameraPath, TheScenesPathSpreadsOverTheRun) {
   EXPECT_FLOAT_EQ(path.camera_at(3).eye.x, 3.0f);
   EXPECT_FLOAT_EQ(path.camera_at(9).eye.x, 9.0f);
   EXPECT_FLOAT_EQ(path.camera_at(9).znear, 0.05f);
+}
+
+TEST(PathClock, WithoutARateEachFrameIsTheNextPathFrame) {
+  PathClock every(0.0, 4, {});
+  for (int f = 0; f <= 4; ++f) {
+    EXPECT_FALSE(every.done());
+    EXPECT_EQ(every.next(1e9 * f), double(f));  // the clock does not matter
+    EXPECT_TRUE(every.exact());
+  }
+  EXPECT_TRUE(every.done());
+  EXPECT_EQ(every.frames(), 5);
+  PathClock chosen(0.0, 4, {1, 3});  // --frames-at: only those are "exact" (written)
+  std::vector<bool> exact;
+  while (!chosen.done()) chosen.next(0.0), exact.push_back(chosen.exact());
+  EXPECT_EQ(exact, (std::vector<bool>{false, true, false, true, false}));
+}
+
+TEST(PathClock, TheClockPlacesFramesAndDrawsEachChosenKeyExactlyOnce) {
+  // 10 path frames a second: 100 ms per path frame.
+  PathClock clock(10.0, 59, {15, 16, 40, 59});
+  EXPECT_DOUBLE_EQ(clock.next(0.0), 0.0);
+  EXPECT_FALSE(clock.exact());
+  EXPECT_DOUBLE_EQ(clock.next(250.0), 2.5);  // between keys: where the clock is
+  EXPECT_FALSE(clock.exact());
+  EXPECT_DOUBLE_EQ(clock.next(1690.0), 15.0);  // passed 15 and 16 in one frame (a slow loop): 15 now ...
+  EXPECT_TRUE(clock.exact());
+  EXPECT_DOUBLE_EQ(clock.next(1700.0), 16.0);  // ... and 16 next, although the clock is at 17
+  EXPECT_TRUE(clock.exact());
+  EXPECT_DOUBLE_EQ(clock.next(1750.0), 17.5);
+  clock.pause(1000.0);                          // time spent writing a file does not move the camera
+  EXPECT_DOUBLE_EQ(clock.next(2800.0), 18.0);
+  EXPECT_FALSE(clock.done());
+  EXPECT_DOUBLE_EQ(clock.next(1e6), 40.0);  // far past the end: the keys left, in order, then the end
+  EXPECT_FALSE(clock.done());
+  EXPECT_DOUBLE_EQ(clock.next(1e6), 59.0);
+  EXPECT_TRUE(clock.exact());
+  EXPECT_TRUE(clock.done());
+  EXPECT_EQ(clock.frames(), 8);
+}
+
+TEST(PathClock, PositionsNeverDecreaseAndTheRunEndsAtTheLastFrame) {
+  std::mt19937 random(7);
+  for (int run = 0; run < 200; ++run) {
+    const int last = int(random() % 80);
+    std::vector<int> keys;
+    for (int k = 0; k <= last; ++k)
+      if (random() % 8 == 0) keys.push_back(k);
+    const double rate = std::exp(std::uniform_real_distribution<double>(-2.0, 8.0)(random));
+    PathClock clock(rate, last, keys);
+    double t = 0.0, before = 0.0;
+    std::vector<int> drawn;
+    int frames = 0;
+    while (!clock.done()) {
+      t += std::uniform_real_distribution<double>(0.0, 300.0)(random);
+      if (random() % 4 == 0) clock.pause(std::uniform_real_distribution<double>(0.0, 50.0)(random)), t += 50.0;
+      const double at = clock.next(t);
+      ASSERT_GE(at, before);
+      ASSERT_LE(at, double(last));
+      if (clock.exact()) {
+        ASSERT_EQ(double(int(at)), at);
+        drawn.push_back(int(at));
+      }
+      before = at;
+      ASSERT_LT(++frames, 1000000);
+    }
+    EXPECT_EQ(before, double(last));
+    EXPECT_EQ(drawn, keys);  // every chosen key, once, in order
+  }
 }
 
 }  // namespace

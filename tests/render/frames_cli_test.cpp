@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -257,6 +258,49 @@ TEST(FramesCli, TraceAheadLeavesSyncRunsAsTheyWereAndTheAsyncLoopReportsItsLag) 
   const double lag = nlohmann::json::parse(read_file(dir / "async.json"))["result_lag_frames"].get<double>();
   EXPECT_GE(lag, 1.0);
   EXPECT_LT(lag, 40.0);
+  fs::remove_all(dir);
+}
+
+// --frames-at picks the frames --frames-out writes; with --path-rate the path runs on the loop's
+// clock, each chosen key drawn (and written) once, exactly, and the run ends at the path's end.
+TEST(FramesCli, ThePathOnTheClockWritesEachChosenKeyOnce) {
+  const fs::path dir = temp_dir();
+  const std::string base = "render " + kScene + " --size 48x40 --frames 30 --sample-budget 0.05 --quiet --no-speedup";
+  auto written = [&] {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().filename().string().rfind("f", 0) == 0) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  for (const std::string rate : {"", " --path-rate 1000"}) {
+    for (const auto& e : fs::directory_iterator(dir)) fs::remove(e.path());
+    const EpiRun run = run_epi(base + rate + " --frames-at 20,4 --frames-out " + (dir / "f%d.exr").string() + " -o " +
+                               (dir / "last.exr").string() + " --stats " + (dir / "s.json").string());
+    ASSERT_EQ(run.exit_code, 0) << rate << "\n" << run.out;
+    EXPECT_EQ(written(), (std::vector<std::string>{"f20.exr", "f4.exr"})) << rate;
+    const nlohmann::json stats = nlohmann::json::parse(read_file(dir / "s.json"));
+    if (rate.empty()) {
+      EXPECT_EQ(stats["loop_frames"].get<int>(), 30);
+      EXPECT_EQ(stats["path_rate"].get<double>(), 0.0);
+    } else {
+      EXPECT_GE(stats["loop_frames"].get<int>(), 3);  // the two keys and the end, at least
+      EXPECT_EQ(stats["path_rate"].get<double>(), 1000.0);
+      EXPECT_NE(run.out.find("on the clock (1000 a second)"), std::string::npos) << run.out;
+    }
+  }
+  struct Bad {
+    std::string args, expect;
+  } bad[] = {{" --frames-at 4,30", "--frames-at 30: beyond the path's last frame, 29"},
+             {" --path-rate -1", "--path-rate"},
+             {" --path-rate 5 --mode raytrace", "--path-rate needs the frame loop"},
+             {" --frames-at 3 --mode reference --spp 1", "--frames-at needs the frame loop"}};
+  for (const Bad& b : bad) {
+    const EpiRun run = run_epi(base + b.args + " -o " + (dir / "bad.exr").string());
+    EXPECT_NE(run.exit_code, 0) << b.args;
+    EXPECT_NE(run.out.find(b.expect), std::string::npos) << run.out;
+    EXPECT_FALSE(fs::exists(dir / "bad.exr"));
+  }
   fs::remove_all(dir);
 }
 
