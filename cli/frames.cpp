@@ -175,6 +175,7 @@ int run_render_frames(const RenderOptions& options) {
   if (!options.punctual_highlights) settings.cache.punctual_highlight_share = render::PointCacheSettings::kNoPunctualHighlights;
   settings.trace_ahead = options.trace_ahead;
   settings.rest_sample_budget = options.rest_sample_budget;
+  settings.motion_sample_budget = options.motion_sample_budget;
   if (options.sparse_occlusion_radius) settings.cache.sparse_occlusion_radius = *options.sparse_occlusion_radius;
   if (options.new_occluder_radius) settings.cache.new_occluder_radius = *options.new_occluder_radius;
   if (options.predict_share) settings.predict_share = *options.predict_share;

@@ -125,6 +125,13 @@ void add_render_options(CLI::App& app, RenderOptions& render, bool with_frame_lo
                    "image sooner; at most --sample-budget: off (docs/render.md, \"Idle shading at rest\")")
         ->check(kFinite & CLI::Range(0.0, 1.0))
         ->capture_default_str();
+    app.add_option("--motion-sample-budget", render.motion_sample_budget,
+                   "Asynchronous loop in motion: the budget grows up to this fraction while the shader finishes "
+                   "each frame's requests and a frame takes at most a 60 Hz display's frame (the shader's idle time "
+                   "goes into frames a display shows); at most --sample-budget: off (docs/render.md, \"Idle shading "
+                   "in motion\")")
+        ->check(kFinite & CLI::Range(0.0, 1.0))
+        ->capture_default_str();
     app.add_option("--camera-path", render.camera_path, "Camera keys per frame (docs/camera-path.md)");
     app.add_flag("--soft-shadow-edges", render.soft_shadow_edges,
                  "epi mode: also cut interpolation at area lights' umbral and penumbral edges, as the paper does "

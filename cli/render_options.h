@@ -63,6 +63,7 @@ struct RenderOptions {
   std::string save_epi;        // mode epi: the last frame's EPI snapshot (io/snapshot), empty: none
   bool trace_ahead = true;  // FrameSettings::trace_ahead (render.md, "Requests traced ahead")
   double rest_sample_budget = render::FrameSettings{}.rest_sample_budget;  // (render.md, "Idle shading at rest")
+  double motion_sample_budget = render::FrameSettings{}.motion_sample_budget;  // (render.md, "Idle shading in motion")
   bool sparse_blend = true;        // epi mode: sparse regions smoothed (render.md, "Sparse regions")
   int sparse_effort = 1;           // epi mode: most effort of a request in a sparse region (render.md; 1: off)
   bool punctual_highlights = true; // epi mode: punctual lights' highlights recomputed per frame (render.md, "Punctual highlights")

@@ -146,6 +146,8 @@ class Viewer {
     if (!options.render.punctual_highlights) s.frame.cache.punctual_highlight_share = render::PointCacheSettings::kNoPunctualHighlights;
     s.frame.trace_ahead = options.render.trace_ahead;
     s.frame.rest_sample_budget = options.render.rest_sample_budget;
+    s.frame.motion_sample_budget = options.render.motion_sample_budget;
+    s.frame.motion_frame_ms = 1000.0 / options.ui_fps;  // frames faster than the window's are not seen
     if (options.render.sparse_occlusion_radius) s.frame.cache.sparse_occlusion_radius = *options.render.sparse_occlusion_radius;
     if (options.render.new_occluder_radius) s.frame.cache.new_occluder_radius = *options.render.new_occluder_radius;
     s.shader = cli::shader_settings(options.render);
@@ -896,6 +898,11 @@ void Viewer::draw_panel() {
   if (ImGui::SliderFloat("budget at rest", &rest_budget, 0.001f, 0.25f, "%.3f", ImGuiSliderFlags_Logarithmic))
     s.frame.rest_sample_budget = rest_budget;
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("while nothing moves, the budget grows up to this as long as the shader keeps up");
+  float motion_budget = float(s.frame.motion_sample_budget);
+  if (ImGui::SliderFloat("budget in motion", &motion_budget, 0.001f, 0.25f, "%.3f", ImGuiSliderFlags_Logarithmic))
+    s.frame.motion_sample_budget = motion_budget;
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("while moving, the budget grows up to this as long as the shader keeps up and frames come faster than the window's");
   ImGui::Checkbox("anti-aliasing", &s.frame.antialias);
   ImGui::SameLine();
   ImGui::Checkbox("complex filter", &s.frame.complex_filter);

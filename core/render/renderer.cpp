@@ -475,11 +475,16 @@ const RgbImage& FrameRenderer::render_frame(const Camera& camera, std::span<cons
   if (async_) {
     const auto ts = Clock::now();
     shader_behind_ = async_->pending_requests() > 0;  // before the last requests are dropped
-    // At rest the budget follows what the shader finishes in a frame, as long as integrating the
-    // results stays a small share of the frame (FrameSettings::rest_sample_budget).
-    const double most = settings_.sample_budget > 0.0 ? std::max(1.0, settings_.rest_sample_budget / settings_.sample_budget) : 1.0;
-    const bool grow = !shader_behind_ && stats_.integrate_ms < settings_.rest_integrate_share * ms_since(start);
-    budget_scale_ = !at_rest ? 1.0 : grow ? std::min(most, budget_scale_ * 1.5) : std::max(1.0, budget_scale_ / 1.5);
+    // The budget follows what the shader finishes in a frame, as long as integrating the results
+    // stays a small share of the frame; in motion only while frames are as fast as a display's
+    // (FrameSettings::rest_sample_budget, motion_sample_budget).
+    const double frame_ms = ms_since(start);
+    const double cap = settings_.sample_budget > 0.0
+                           ? std::max(1.0, (at_rest ? settings_.rest_sample_budget : settings_.motion_sample_budget) / settings_.sample_budget)
+                           : 1.0;
+    const bool grow = !shader_behind_ && stats_.integrate_ms < settings_.grow_integrate_share * frame_ms;
+    const double scale = std::min(cap, budget_scale_);
+    budget_scale_ = !at_rest && frame_ms > settings_.motion_frame_ms ? 1.0 : grow ? std::min(cap, scale * 1.5) : std::max(1.0, scale / 1.5);
     // Effort only from the shader's spare time: a shader that is behind would finish fewer requests.
     effort_most_ = shader_behind_ ? std::max(1, effort_most_ / 2) : std::min(settings_.sparse_effort, effort_most_ + 1);
     std::vector<NewShot> shots = choose_requests(frame, reconstruction_.priority, frame_);

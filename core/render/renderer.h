@@ -38,12 +38,18 @@ struct FrameSettings {
   double sample_budget = 0.02;  // fraction of the pixels requested per frame
   // Asynchronous loop at rest (camera, objects and lights as in the last frame): the budget grows
   // 1.5x a frame while the shader finishes every request before the next frame chooses (it idles
-  // otherwise) and integrating the results takes less than rest_integrate_share of the frame (the
+  // otherwise) and integrating the results takes less than grow_integrate_share of the frame (the
   // loop stays responsive for the next move), up to this fraction; it shrinks 1.5x a frame
-  // otherwise; any move starts again from sample_budget (docs/render.md, "Idle shading at rest").
-  // At most sample_budget: off. Sync mode shades sample_budget exactly.
+  // otherwise (docs/render.md, "Idle shading at rest"). At most sample_budget: off. Sync mode
+  // shades sample_budget exactly.
   double rest_sample_budget = 0.08;
-  double rest_integrate_share = 0.25;
+  // In motion the same, up to motion_sample_budget, while a frame takes at most motion_frame_ms (a
+  // display's frame: the shader's idle time goes into frames the user sees, not into frames faster
+  // than a display shows); a slower frame starts again from sample_budget at once (docs/render.md,
+  // "Idle shading in motion"). At most sample_budget: off.
+  double motion_sample_budget = 0.08;
+  double motion_frame_ms = 1000.0 / 60.0;
+  double grow_integrate_share = 0.25;
   bool sync = false;            // shade the budget inside each frame (deterministic for a seed)
   // With sync: the requests a frame chooses are made for its own view and shaded at the start of
   // the next frame, with the placement they were made for (the asynchronous loop's order when the
@@ -215,7 +221,7 @@ class FrameRenderer {
   bool shader_behind_ = false;  // the last frame's requests were not all shaded by its end
   std::vector<uint32_t> effort_counts_;  // set_sparse_effort's block counts
   int effort_most_ = 1;  // async: the most effort a request may take now (FrameSettings::sparse_effort)
-  double budget_scale_ = 1.0;   // of sample_budget, grown at rest (FrameSettings::rest_sample_budget)
+  double budget_scale_ = 1.0;   // of sample_budget, grown while the shader keeps up (FrameSettings::rest_sample_budget, motion_sample_budget)
   std::unique_ptr<tbb::task_arena> loop_arena_;  // the loop's cores while the shader is behind (adaptive)
   PointCache cache_;
   EpiImage epi_;

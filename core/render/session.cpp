@@ -50,7 +50,8 @@ bool same_shader(const ShaderSettings& a, const ShaderSettings& b) {
 
 bool same_frame_settings(const FrameSettings& a, const FrameSettings& b) {
   return a.width == b.width && a.height == b.height && a.sample_budget == b.sample_budget &&
-         a.rest_sample_budget == b.rest_sample_budget && a.rest_integrate_share == b.rest_integrate_share &&
+         a.rest_sample_budget == b.rest_sample_budget && a.grow_integrate_share == b.grow_integrate_share &&
+         a.motion_sample_budget == b.motion_sample_budget && a.motion_frame_ms == b.motion_frame_ms &&
          a.sync == b.sync && a.seed == b.seed && a.antialias == b.antialias && a.complex_filter == b.complex_filter &&
          a.stage_timings == b.stage_timings && a.shader_threads == b.shader_threads && a.view_edges == b.view_edges &&
          a.shadow_edges == b.shadow_edges && a.soft_shadow_edges == b.soft_shadow_edges &&

@@ -608,7 +608,8 @@ TEST(FrameLoop, AtRestTheBudgetGrowsWhileTheShaderKeepsUp) {
   Fixture f;
   FrameSettings s = small_settings(RenderMode::epi, false);
   s.sample_budget = 0.02, s.rest_sample_budget = 0.08;  // 82 and 328 requests of 4096 pixels
-  s.rest_integrate_share = 1.0;  // integrating never takes the whole frame: growth by the shader alone
+  s.motion_sample_budget = s.sample_budget;               // in motion: the next test
+  s.grow_integrate_share = 1.0;  // integrating never takes the whole frame: growth by the shader alone
   FrameRenderer renderer(f.scene, f.ray_scene, f.shader, s);
   Camera camera = f.scene.cameras[0];
   std::vector<size_t> asked;
@@ -653,7 +654,7 @@ TEST(FrameLoop, AtRestTheBudgetGrowsWhileTheShaderKeepsUp) {
     FrameSettings off = s;
     off.sync = sync;
     if (off_by == 0) off.rest_sample_budget = off.sample_budget;
-    if (off_by == 1) off.rest_integrate_share = 0.0;
+    if (off_by == 1) off.grow_integrate_share = 0.0;
     FrameRenderer flat(f.scene, f.ray_scene, f.shader, off);
     for (int k = 0; k < 4; ++k) {
       flat.render(camera);
@@ -662,6 +663,62 @@ TEST(FrameLoop, AtRestTheBudgetGrowsWhileTheShaderKeepsUp) {
       if (sync) EXPECT_EQ(flat.stats().samples, 82u) << "sync, frame " << k;
     }
   }
+}
+
+// Idle shading in motion (docs/render.md): with the camera moving every frame and the shader done
+// with every request, the budget grows up to motion_sample_budget while frames take at most
+// motion_frame_ms; a slower frame asks for sample_budget at once; at rest it goes on growing to
+// rest_sample_budget; a shader that falls behind gets fewer; sync mode never grows.
+TEST(FrameLoop, InMotionTheBudgetGrowsWhileTheShaderKeepsUpAndFramesAreFast) {
+  Fixture f;
+  FrameSettings s = small_settings(RenderMode::epi, false);
+  s.sample_budget = 0.02, s.motion_sample_budget = 0.04, s.rest_sample_budget = 0.08;  // 82, 164, 328 of 4096
+  s.grow_integrate_share = 1.0;
+  s.motion_frame_ms = 1e9;  // every frame fast enough
+  auto run = [&](const FrameSettings& settings, int moving, int still) {
+    FrameRenderer renderer(f.scene, f.ray_scene, f.shader, settings);
+    Camera camera = f.scene.cameras[0];
+    std::vector<size_t> asked;
+    for (int k = 0; k < moving + still; ++k) {
+      if (k < moving) camera.eye.x += 0.01f;
+      renderer.render(camera);
+      asked.push_back(renderer.stats().requested);
+      if (!settings.sync) wait_for_shader(renderer);
+    }
+    return asked;
+  };
+  EXPECT_EQ(run(s, 5, 3), (std::vector<size_t>{123, 164, 164, 164, 164, 246, 328, 328}));
+  FrameSettings slow = s;
+  slow.motion_frame_ms = 0.0;  // every frame slower than a display's: the budget in motion, then growth at rest
+  EXPECT_EQ(run(slow, 4, 2), (std::vector<size_t>{82, 82, 82, 82, 123, 184}));
+  FrameSettings off = s;
+  off.motion_sample_budget = off.sample_budget;
+  EXPECT_EQ(run(off, 4, 1), (std::vector<size_t>{82, 82, 82, 82, 123}));
+  FrameSettings sync = s;
+  sync.sync = true;
+  EXPECT_EQ(run(sync, 4, 1), (std::vector<size_t>{82, 82, 82, 82, 82}));
+
+  // A shader that falls behind in motion: the budget shrinks back.
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<bool> hold{false};
+  FrameSettings held = s;
+  held.before_shading_slice = [&] {
+    if (hold) released.wait();
+  };
+  FrameRenderer behind(f.scene, f.ray_scene, f.shader, held);
+  Camera camera = f.scene.cameras[0];
+  std::vector<size_t> behind_asked;
+  for (int k = 0; k < 6; ++k) {
+    if (k == 2) hold = true;
+    camera.eye.x += 0.01f;
+    behind.render(camera);
+    behind_asked.push_back(behind.stats().requested);
+    if (k < 2) wait_for_shader(behind);
+  }
+  release.set_value();
+  wait_for_shader(behind);
+  EXPECT_EQ(behind_asked, (std::vector<size_t>{123, 164, 164, 109, 82, 82}));
 }
 
 // Effort where samples are sparse (docs/render.md): with an area light (whose samples effort
