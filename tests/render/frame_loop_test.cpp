@@ -562,6 +562,20 @@ TEST(FrameLoop, FramesReturnWhileTheShaderIsHeld) {
 }
 
 // Waits (bounded) until the asynchronous shader has shaded everything submitted.
+// Holds the asynchronous shader before each slice while `hold` is set, until release().
+struct ShaderGate {
+  std::promise<void> opened;
+  std::shared_future<void> open = opened.get_future().share();
+  std::atomic<bool> hold{false};
+  FrameSettings around(FrameSettings s) {
+    s.before_shading_slice = [this] {
+      if (hold) open.wait();
+    };
+    return s;
+  }
+  void release() { opened.set_value(); }
+};
+
 void wait_for_shader(const FrameRenderer& renderer) {
   for (int k = 0; k < 20000 && renderer.pending_requests() > 0; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   std::this_thread::sleep_for(std::chrono::milliseconds(2));  // the last slice's results are published after the count
@@ -630,22 +644,16 @@ TEST(FrameLoop, AtRestTheBudgetGrowsWhileTheShaderKeepsUp) {
   EXPECT_EQ(asked.back(), 82u) << "a moved object starts again from the budget";
 
   // A shader that falls behind at rest: the budget shrinks back.
-  std::promise<void> release;
-  std::shared_future<void> released = release.get_future().share();
-  std::atomic<bool> hold{false};
-  FrameSettings held = s;
-  held.before_shading_slice = [&] {
-    if (hold) released.wait();
-  };
-  FrameRenderer behind(f.scene, f.ray_scene, f.shader, held);
+  ShaderGate gate;
+  FrameRenderer behind(f.scene, f.ray_scene, f.shader, gate.around(s));
   std::vector<size_t> behind_asked;
   for (int k = 0; k < 8; ++k) {
-    if (k == 3) hold = true;  // from the fourth frame's requests on, nothing is shaded
+    if (k == 3) gate.hold = true;  // from the fourth frame's requests on, nothing is shaded
     behind.render(camera);
     behind_asked.push_back(behind.stats().requested);
     if (k < 3) wait_for_shader(behind);
   }
-  release.set_value();
+  gate.release();
   wait_for_shader(behind);
   EXPECT_EQ(behind_asked, (std::vector<size_t>{82, 123, 184, 276, 184, 123, 82, 82}));
 
@@ -699,24 +707,18 @@ TEST(FrameLoop, InMotionTheBudgetGrowsWhileTheShaderKeepsUpAndFramesAreFast) {
   EXPECT_EQ(run(sync, 4, 1), (std::vector<size_t>{82, 82, 82, 82, 82}));
 
   // A shader that falls behind in motion: the budget shrinks back.
-  std::promise<void> release;
-  std::shared_future<void> released = release.get_future().share();
-  std::atomic<bool> hold{false};
-  FrameSettings held = s;
-  held.before_shading_slice = [&] {
-    if (hold) released.wait();
-  };
-  FrameRenderer behind(f.scene, f.ray_scene, f.shader, held);
+  ShaderGate gate;
+  FrameRenderer behind(f.scene, f.ray_scene, f.shader, gate.around(s));
   Camera camera = f.scene.cameras[0];
   std::vector<size_t> behind_asked;
   for (int k = 0; k < 6; ++k) {
-    if (k == 2) hold = true;
+    if (k == 2) gate.hold = true;
     camera.eye.x += 0.01f;
     behind.render(camera);
     behind_asked.push_back(behind.stats().requested);
     if (k < 2) wait_for_shader(behind);
   }
-  release.set_value();
+  gate.release();
   wait_for_shader(behind);
   EXPECT_EQ(behind_asked, (std::vector<size_t>{123, 164, 164, 109, 82, 82}));
 }
