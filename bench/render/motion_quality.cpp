@@ -34,10 +34,14 @@
 // rescaled its diffuse part with the view (docs/render.md, "Diffuse transmission"). "Explained": T(n.v then) / T(n.v now) is off 1 by more than 0.1 and
 // the stored colour is within 0.05 of the fresh diffuse part scaled by it plus the stored
 // view-dependent part (T(c) = 1 - F(c), F0 = 0.04; n the geometric normal).
+// --edges adds a column: the share of the visible edge pieces' length, over every frame of the run,
+// that lies behind the ray-traced surface at its pixel by more than 10 % of its depth (an edge of a
+// surface hidden by a nearer one, drawn across that nearer one; docs/render.md, "Edges behind
+// nearer surfaces"), sampled every half pixel along each piece.
 // Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs LIST] [--reference-dir DIR]
 //        [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead]
 //        [--no-punctual-highlights] [--times]
-//        [--colours] [--out DIR] SCENE.gltf...
+//        [--colours] [--edges] [--out DIR] SCENE.gltf...
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -74,6 +78,7 @@ struct Run {
   // of those reported view-dependent, and of the rest explained by the diffuse lobe's Fresnel transmission.
   size_t compared = 0, off = 0, transmission = 0, reported = 0;
   std::vector<double> settle;  // --settle: RMSE at the stop (0) and each frame held there after it
+  double edge_length = 0, edge_behind = 0;  // --edges: visible edge length (pixels), of it behind the surface
 };
 
 struct Options {
@@ -92,7 +97,34 @@ struct Options {
   bool punctual_highlights = true;  // --no-punctual-highlights: PointCacheSettings::punctual_highlight_share off
   bool colours = false;     // --colours: the stored colours against fresh shading (the second table)
   int settle = 0;           // --settle N: frames held at the last view after the path (the settling table)
+  bool edges = false;       // --edges: the share of visible edge length behind the ray-traced surface
 };
+
+// The frame's visible edge pieces sampled every half pixel: their length, and the length where the
+// ray through the sample hits a surface nearer than the edge by more than 10 % of the edge's depth.
+void edges_behind(const FrameRenderer& renderer, const RayScene& ray_scene, const Camera& camera, int size, Run& r) {
+  View view;
+  view.camera = camera, view.width = size, view.height = size;
+  const ViewFrame frame(view);
+  const std::vector<Segment>& pieces = renderer.segments();
+  const std::vector<glm::dvec2>& inv = renderer.piece_inv_depths();
+  for (size_t k = 0; k < pieces.size() && k < inv.size(); ++k) {
+    const Segment& s = pieces[k];
+    const double length = std::hypot(s.x1 - s.x0, s.y1 - s.y0);
+    const int samples = std::max(1, int(std::ceil(2.0 * length)));
+    for (int j = 0; j < samples; ++j) {
+      const double t = (j + 0.5) / samples;
+      const double x = s.x0 + t * (s.x1 - s.x0), y = s.y0 + t * (s.y1 - s.y0);
+      if (!(x >= 0.0 && y >= 0.0 && x < size && y < size)) continue;
+      const double step = length / samples;
+      r.edge_length += step;
+      const double edge_depth = 1.0 / (inv[k].x + t * (inv[k].y - inv[k].x));
+      const Ray ray = frame.ray(float(x), float(y));
+      const RayHit hit = ray_scene.intersect(ray);
+      if (hit.hit && double(frame.project(ray.origin + hit.t * ray.direction).depth) * 1.1 < edge_depth) r.edge_behind += step;
+    }
+  }
+}
 
 // Display-space RMSE of two images of the same size, through this tool's display() (clamped, sRGB;
 // `epi compare` tone-maps linear images first, so its figures differ).
@@ -158,9 +190,11 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
   const Camera last = path.camera_at(o.frames - 1);
   RgbImage image;
   std::vector<double> points_ms;
+  Run r;
   for (int f = 0; f < o.frames; ++f) {
     image = renderer.render(still ? last : path.camera_at(f));
     points_ms.push_back(renderer.stats().ms[FrameStage::points]);
+    if (o.edges && mode == RenderMode::epi) edges_behind(renderer, ray_scene, still ? last : path.camera_at(f), o.size, r);
   }
   if (!image_file.empty()) write_image(image_file, image);
 
@@ -180,8 +214,20 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
     if (p.object == kNone) return hit.hit;
     return hit.hit && proj.depth > frame.project(ray.origin + hit.t * ray.direction).depth * 1.02f + 1e-3f;
   };
-  Run r;
   r.rmse = display_rmse(image, reference);
+  if (const char* e = std::getenv("EPI_DBG_PX")) {  // DEBUG
+    int cx = 0, cy = 0;
+    std::sscanf(e, "%d,%d", &cx, &cy);
+    for (int y = cy - 3; y <= cy + 3; ++y) {
+      for (int x = cx - 3; x <= cx + 3; ++x) {
+        const size_t i = size_t(y) * size_t(o.size) + size_t(x);
+        if (drawn.point[i] < 0) { std::fprintf(stderr, "   .............. "); continue; }
+        const CachePoint& p = cache.points()[size_t(drawn.point[i])];
+        std::fprintf(stderr, " %c%u:%5.3f a%-3u e%u", hidden_at(i) ? '!' : ' ', p.object, drawn.depth[i], unsigned(p.age), unsigned(renderer.edge_pixels()[i]));
+      }
+      std::fprintf(stderr, "\n");
+    }
+  }
   const int n = o.size;
   // The causes as a picture: the frame dimmed, each pixel off by more than 0.1 coloured by cause
   // (hidden red, colour yellow, near hidden magenta, other blue).
@@ -263,17 +309,19 @@ int run_all(int argc, char** argv) {
     else if (a == "--no-punctual-highlights") o.punctual_highlights = false;
     else if (a == "--colours") o.colours = true;
     else if (a == "--settle") o.settle = std::stoi(value());
+    else if (a == "--edges") o.edges = true;
     else if (a.starts_with("-")) o.size = 0;  // unknown option (also --help): the usage line below
     else scenes.push_back(a);
   }
   if (scenes.empty() || o.size < 8 || o.frames < 1 || o.settle < 0 || !(o.budget > 0.0 && o.budget <= 1.0)) {
-    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--no-punctual-highlights] [--times] [--colours] [--settle N] [--out DIR] SCENE.gltf...\n");
+    std::fprintf(stderr, "usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs path,still,rc] [--reference-dir DIR] [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead] [--no-punctual-highlights] [--times] [--colours] [--settle N] [--edges] [--out DIR] SCENE.gltf...\n");
     return 2;
   }
   if (!o.out.empty()) std::filesystem::create_directories(o.out);
   std::printf("%dx%d, %d frames along the path, sync%s%s, budget %.3f, seed %llu, direct shader, reference %d spp\n", o.size,
               o.size, o.frames, o.as_async ? " as async" : "", o.trace_ahead ? "" : ", not traced ahead", o.budget, (unsigned long long)o.seed, o.spp);
-  std::printf("| scene | run | RMSE | > 0.1 | > 0.2 | hidden | colour | near hidden | other |\n|---|---|---|---|---|---|---|---|---|\n");
+  std::printf("| scene | run | RMSE | > 0.1 | > 0.2 | hidden | colour | near hidden | other |%s%s\n|---|---|---|---|---|---|---|---|---|%s%s\n",
+              o.times ? " points ms |" : "", o.edges ? " edges behind |" : "", o.times ? "---|" : "", o.edges ? "---|" : "");
   std::vector<Run> colour_rows;
   std::vector<std::string> colour_labels;
   struct Settling {
@@ -319,6 +367,7 @@ int run_all(int argc, char** argv) {
       std::printf("| %s | %s | %.4f | %.2f %% | %.2f %% | %zu | %zu | %zu | %zu |", name.c_str(), k.label, r.rmse, r.over01,
                   r.over02, r.hidden, r.colour, r.near, r.other);
       if (o.times) std::printf(" %.2f |", r.points_ms);
+      if (o.edges) std::printf(" %.2f %% |", r.edge_length > 0 ? 100.0 * r.edge_behind / r.edge_length : 0.0);
       std::printf("\n");
       std::fflush(stdout);
     }

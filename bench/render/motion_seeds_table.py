@@ -6,11 +6,15 @@ program prints it (optionally after a label and a seed).
 
   bench/render/motion_seeds_table.py [--run still|path|rc] BEFORE.txt AFTER.txt
   bench/render/motion_seeds_table.py --targets RUNS.txt
+  bench/render/motion_seeds_table.py --edges BEFORE.txt AFTER.txt
 
 --run picks the rows ("epi, path" by default; still: "epi, still"; rc: "render cache, path").
 --targets: issue 9's figures from one file holding all three runs per seed: the seed means of the
 path, still and render cache RMSE, path over still (target at most 1.5), path over the render
 cache (at most 0.75) and the path's share of pixels over 0.2 (at most 0.3 %).
+--edges: the last column of runs made with `render_motion_quality --edges` (the share of the visible
+edge length behind the ray-traced surface), mean and range over the seeds, along the path before
+and after, and the still run's from BEFORE.
 """
 import collections
 import re
@@ -45,10 +49,34 @@ def targets(name):
               f"{mean(p) / mean(r):.2f} | {over:.2f} % |")
 
 
+def load_edges(name, run="path"):
+    """Per scene, the last column (edges behind, %) of the rows of one run."""
+    row = re.compile(r"\| (\S+) \| " + re.escape(RUNS[run]) + r" \|.* ([\d.]+) % \|\s*$")
+    rows = collections.defaultdict(list)
+    with open(name) as f:
+        for line in f:
+            m = row.search(line)
+            if m:
+                rows[m.group(1)].append(float(m.group(2)))
+    return rows
+
+
+def edges(before_file, after_file):
+    before, after, still = load_edges(before_file), load_edges(after_file), load_edges(before_file, "still")
+    span = lambda v: f"{mean(v):.1f} % ({min(v):.1f}-{max(v):.1f})"
+    print("| scene | seeds | edges behind, path, before | after | still, before |")
+    print("|---|---|---|---|---|")
+    for scene in sorted(before):
+        print(f"| {scene} | {len(before[scene])} | {span(before[scene])} | {span(after[scene]) if after[scene] else '-'} | "
+              f"{span(still[scene]) if still[scene] else '-'} |")
+
+
 def main():
     args = sys.argv[1:]
     if len(args) == 2 and args[0] == "--targets":
         return targets(args[1])
+    if len(args) == 3 and args[0] == "--edges":
+        return edges(args[1], args[2])
     run = "path"
     if len(args) == 4 and args[0] == "--run" and args[1] in RUNS:
         run, args = args[1], args[2:]

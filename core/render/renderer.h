@@ -171,6 +171,7 @@ class FrameRenderer {
   // The settings this renderer reconstructs its EPI with (what an EPI snapshot must carry).
   ReconstructSettings reconstruct_settings() const;
   const std::vector<Segment>& segments() const { return segments_; }  // this frame's visible edge pieces
+  const std::vector<glm::dvec2>& piece_inv_depths() const { return piece_inv_depth_; }  // 1/depth at each piece's ends
   const BoundaryMasks& masks() const { return masks_; }       // and its boundary masks (EPI snapshots)
   const std::vector<edges::EdgeKind>& segment_kinds() const { return segment_kinds_; }  // one per piece
   const std::vector<float>& filtered_depth() const { return filtered_depth_; }
