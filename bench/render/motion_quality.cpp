@@ -37,7 +37,8 @@
 // --edges adds a column: the share of the visible edge pieces' length, over every frame of the run,
 // that lies behind the ray-traced surface at its pixel by more than 10 % of its depth (an edge of a
 // surface hidden by a nearer one, drawn across that nearer one; docs/render.md, "Edges behind
-// nearer surfaces"), sampled every half pixel along each piece.
+// nearer surfaces"), sampled every half pixel along each piece; with --out, RUN_edges.png: the last
+// frame with the pixels of those pieces in magenta.
 // Usage: render_motion_quality [--size N] [--frames N] [--budget F] [--spp N] [--seed N] [--runs LIST] [--reference-dir DIR]
 //        [--occlusion-radius N] [--sparse-occlusion-radius N] [--new-occluder-radius N] [--as-async] [--no-trace-ahead]
 //        [--no-punctual-highlights] [--times]
@@ -102,7 +103,9 @@ struct Options {
 
 // The frame's visible edge pieces sampled every half pixel: their length, and the length where the
 // ray through the sample hits a surface nearer than the edge by more than 10 % of the edge's depth.
-void edges_behind(const FrameRenderer& renderer, const RayScene& ray_scene, const Camera& camera, int size, Run& r) {
+// `marks`, when given, receives the pixels of the samples behind.
+void edges_behind(const FrameRenderer& renderer, const RayScene& ray_scene, const Camera& camera, int size, Run& r,
+                  std::vector<glm::ivec2>* marks = nullptr) {
   View view;
   view.camera = camera, view.width = size, view.height = size;
   const ViewFrame frame(view);
@@ -121,7 +124,9 @@ void edges_behind(const FrameRenderer& renderer, const RayScene& ray_scene, cons
       const double edge_depth = 1.0 / (inv[k].x + t * (inv[k].y - inv[k].x));
       const Ray ray = frame.ray(float(x), float(y));
       const RayHit hit = ray_scene.intersect(ray);
-      if (hit.hit && double(frame.project(ray.origin + hit.t * ray.direction).depth) * 1.1 < edge_depth) r.edge_behind += step;
+      if (!(hit.hit && double(frame.project(ray.origin + hit.t * ray.direction).depth) * 1.1 < edge_depth)) continue;
+      r.edge_behind += step;
+      if (marks) marks->emplace_back(int(x), int(y));
     }
   }
 }
@@ -191,12 +196,23 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
   RgbImage image;
   std::vector<double> points_ms;
   Run r;
+  std::vector<glm::ivec2> marks;  // --edges: the last frame's pixels of edges behind
   for (int f = 0; f < o.frames; ++f) {
     image = renderer.render(still ? last : path.camera_at(f));
     points_ms.push_back(renderer.stats().ms[FrameStage::points]);
-    if (o.edges && mode == RenderMode::epi) edges_behind(renderer, ray_scene, still ? last : path.camera_at(f), o.size, r);
+    if (o.edges && mode == RenderMode::epi)
+      edges_behind(renderer, ray_scene, still ? last : path.camera_at(f), o.size, r, f == o.frames - 1 ? &marks : nullptr);
   }
   if (!image_file.empty()) write_image(image_file, image);
+  if (!image_file.empty() && o.edges && mode == RenderMode::epi) {
+    // The last frame with the pixels its edges behind nearer surfaces cross in magenta.
+    RgbImage edges = image;
+    for (const glm::ivec2& m : marks) {
+      float* px = &edges.pixels[(size_t(m.y) * size_t(o.size) + size_t(m.x)) * 3];
+      px[0] = 1.0f, px[1] = 0.0f, px[2] = 1.0f;
+    }
+    write_image(image_file.substr(0, image_file.size() - 4) + "_edges.png", edges);
+  }
 
   View view;
   view.camera = last, view.width = o.size, view.height = o.size;
