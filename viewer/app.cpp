@@ -164,7 +164,7 @@ class Viewer {
     encoder_.set_exposure(options.render.exposure);
     render_scale_ = options.render_scale;
     scene_radius_ = scene.world_bounds().empty() ? 1.0f : 0.5f * glm::length(scene.world_bounds().max - scene.world_bounds().min);
-    if (path_) playing_ = true, input_.path = path_, input_.path_start = 0;
+    if (path_) play_path(0);
   }
 
   int run();
@@ -173,6 +173,12 @@ class Viewer {
   using SessionSettings = render::SessionSettings;
 
   void open_window();
+  // Starts the --camera-path playing from its first key: frame by frame after frame `after`, or on
+  // the clock from now (--path-rate).
+  void play_path(uint64_t after) {
+    playing_ = true, input_.path = path_, input_.path_start = after;
+    input_.path_rate = options_.render.path_rate, input_.path_clock_start = std::chrono::steady_clock::now();
+  }
   void close_window();
   void frame_input(double dt);
   void run_script();
@@ -492,7 +498,7 @@ void Viewer::key(int key, bool press, int mods) {
     case GLFW_KEY_M: input_.settings.mode = SessionMode((int(input_.settings.mode) + 1) % 4); break;
     case GLFW_KEY_K: toggle_recording(); break;
     case GLFW_KEY_L:
-      if (path_) playing_ = true, input_.path = path_, input_.path_start = frame_.number;
+      if (path_) play_path(frame_.number);
       break;
     case GLFW_KEY_P: {
       const std::string base = "epi-screenshot-" + std::to_string(++screenshot_count_);
@@ -594,9 +600,10 @@ void Viewer::frame_input(double dt) {
     fly(input_.camera, move * float(dt) * speed);
     changed_by_user();
   }
-  // A path plays on the frame thread, frame by frame; the window follows what it shows.
-  if (playing_ && frame_.number > input_.path_start) {
-    const double f = double(frame_.number - 1 - input_.path_start);
+  // A path plays on the frame thread, frame by frame or on the clock (--path-rate); the window
+  // follows what it shows.
+  if (playing_ && frame_.number > input_.path_start && frame_.path_frame >= 0.0) {
+    const double f = frame_.path_frame;
     if (!path_->cameras.empty()) input_.camera = frame_.camera;
     if (path_->moves_objects()) input_.objects = path_->object_transforms_at(scene_, f);
     if (path_->moves_lights()) input_.lights = path_->light_positions_at(scene_, f);

@@ -45,6 +45,14 @@ std::pair<size_t, float> locate(const std::vector<Key>& keys, size_t first, size
 
 }  // namespace
 
+double CameraPath::last_frame() const {
+  double last = 0.0;
+  for (const CameraKey& k : cameras) last = std::max(last, k.frame);
+  for (const ObjectKey& k : objects) last = std::max(last, k.frame);
+  for (const LightKey& k : lights) last = std::max(last, k.frame);
+  return last;
+}
+
 Camera CameraPath::camera_at(double frame) const {
   if (cameras.empty()) return Camera{};
   const auto [k, t] = locate(cameras, 0, cameras.size(), frame);

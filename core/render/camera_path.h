@@ -45,6 +45,8 @@ struct CameraPath {
   // held); directional lights keep theirs (unused).
   std::vector<glm::vec3> light_positions_at(const Scene& scene, double frame) const;
   bool moves_lights() const { return !lights.empty(); }
+  // The frame of the path's last key (camera, object or light); 0 for a path without keys.
+  double last_frame() const;
 };
 
 // Where along a path each rendered frame is (docs/render.md, "The path on the clock"). Without a

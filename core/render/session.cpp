@@ -338,6 +338,7 @@ void Session::render_raytrace_pass(const SessionInput& input, bool restart) {
 void Session::run() {
   Clock::time_point next_frame = Clock::now();
   uint64_t last_hash = 0;
+  double path_frame = -1.0;  // the path frame of the input being rendered (-1: none)
   while (true) {
     SessionInput input;
     std::vector<PickRequest> picks;
@@ -358,8 +359,14 @@ void Session::run() {
       });
       if (stop_) return;
       input = input_;
+      path_frame = -1.0;
       if (input.path) {  // this frame's keys
-        const double f = double(frames_.load() - std::min(frames_.load(), input.path_start));
+        const double f =
+            input.path_rate > 0.0
+                ? std::min(input.path->last_frame(),
+                           input.path_rate * std::max(0.0, std::chrono::duration<double>(Clock::now() - input.path_clock_start).count()))
+                : double(frames_.load() - std::min(frames_.load(), input.path_start));
+        path_frame = f;
         if (!input.path->cameras.empty()) input.camera = input.path->camera_at(f);
         if (input.path->moves_objects()) input.objects = input.path->object_transforms_at(scene_, f);
         if (input.path->moves_lights()) input.lights = input.path->light_positions_at(scene_, f);
@@ -392,6 +399,7 @@ void Session::run() {
     frame.input_sequence = input.sequence;
     frame.input_time = input.time;
     frame.camera = input.camera;
+    frame.path_frame = path_frame;
     frame.settings = input.settings;
     frame.settings.frame.before_shading_slice = nullptr;
     // Rays per second over the last half second or more of wall time.

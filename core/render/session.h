@@ -67,6 +67,11 @@ struct SessionInput {
   // objects and lights come from the path where it has keys for them (the fields above otherwise).
   std::shared_ptr<const CameraPath> path;
   uint64_t path_start = 0;
+  // With path_rate > 0 the path runs on the wall clock instead, as `epi render --path-rate` runs
+  // it on the loop's: a frame shows path frame min(last key, path_rate x seconds since
+  // path_clock_start), however many frames the loop managed (docs/viewer.md, "Paths on the clock").
+  double path_rate = 0.0;
+  std::chrono::steady_clock::time_point path_clock_start;
   uint64_t sequence = 0;           // set by post(): the number of this input
   std::chrono::steady_clock::time_point time;  // set by post(): when it was posted
 };
@@ -96,6 +101,7 @@ struct SessionFrame {
   uint64_t input_sequence = 0;  // the newest input this frame reflects
   std::chrono::steady_clock::time_point input_time, done_time;
   Camera camera;
+  double path_frame = -1.0;     // the path frame shown (SessionInput::path; -1: none)
   SessionSettings settings;     // as rendered
   RgbImage image;               // linear RGB of the chosen stage view
   std::vector<uint32_t> display;  // RGBA8 of `image` (made by the display function; empty without one)

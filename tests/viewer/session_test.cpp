@@ -77,6 +77,65 @@ TEST(Session, SyncFramesAreTheFrameRenderersFrames) {
   }
 }
 
+// A camera path plays frame by frame (frame n shows path frame n - 1 - path_start) or, with a rate,
+// on the wall clock: the frames show the clock's position, never go back, and end at the path's
+// last key however few frames the loop made (docs/viewer.md, "Paths on the clock").
+TEST(Session, APathPlaysFrameByFrameOrOnTheClock) {
+  const Scene scene = test::plane_and_box();
+  auto path = std::make_shared<CameraPath>();
+  for (int k = 0; k <= 40; k += 10) {
+    Camera c = scene.cameras[0];
+    c.eye.x += 0.02f * float(k);
+    path->cameras.push_back({double(k), c});
+  }
+  ASSERT_EQ(path->last_frame(), 40.0);
+  SessionInput in = small_input(scene, SessionMode::epi, true);
+  in.path = path;
+  {  // frame by frame
+    SessionInput by_frame = in;
+    by_frame.settings.frame_limit = 3;
+    Session session(scene, by_frame);
+    ASSERT_TRUE(session.wait_for_frame(3, 60s));
+    SessionFrame f;
+    ASSERT_TRUE(session.take_frame(0, f));
+    EXPECT_EQ(f.path_frame, 2.0);
+    EXPECT_EQ(f.camera.eye, path->camera_at(2.0).eye);
+  }
+  {  // on a clock started a second ago, at a million path frames a second: the first frame is at the end
+    SessionInput fast = in;
+    fast.settings.frame_limit = 1;
+    fast.path_rate = 1e6;
+    fast.path_clock_start = std::chrono::steady_clock::now() - 1s;
+    Session session(scene, fast);
+    ASSERT_TRUE(session.wait_for_frame(1, 60s));
+    SessionFrame f;
+    ASSERT_TRUE(session.take_frame(0, f));
+    EXPECT_EQ(f.path_frame, 40.0);
+    EXPECT_EQ(f.camera.eye, path->camera_at(40.0).eye);
+  }
+  {  // at 100 path frames a second: each frame at most where the clock was when it was taken
+    SessionInput clocked = in;
+    clocked.path_rate = 100.0;
+    const auto start = std::chrono::steady_clock::now();
+    clocked.path_clock_start = start;
+    Session session(scene, clocked);
+    SessionFrame f;
+    double previous = -1.0;
+    int frames = 0;
+    while (std::chrono::steady_clock::now() - start < 1s) {
+      session.wait_for_frame(f.number + 1, 200ms);
+      if (!session.take_frame(f.number, f)) continue;
+      const double clock = 100.0 * std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      EXPECT_GE(f.path_frame, previous);
+      EXPECT_LE(f.path_frame, std::min(40.0, clock));
+      EXPECT_EQ(f.camera.eye, path->camera_at(f.path_frame).eye);
+      previous = f.path_frame, ++frames;
+    }
+    EXPECT_GT(frames, 1);
+    EXPECT_EQ(previous, 40.0) << "the path ends at its last key";
+  }
+}
+
 // A setting the frame loop is built with (here the sparse occlusion radius, which `epi-viewer
 // --sparse-occlusion-radius` sets, and soft shadow edges, which the panel toggles) rebuilds it;
 // the same settings do not.
