@@ -23,15 +23,21 @@ import sys
 RUNS = {"path": "epi, path", "still": "epi, still", "rc": "render cache, path"}
 
 
-def load(name, run="path"):
-    row = re.compile(r"\| (\S+) \| " + re.escape(RUNS[run]) + r" \| ([\d.]+) \| [\d.]+ % \| ([\d.]+) %")
+def rows_of(name, run, fields, convert):
+    """Per scene, convert(match) of each row of one run whose text after the run matches `fields`."""
+    row = re.compile(r"\| (\S+) \| " + re.escape(RUNS[run]) + r" \| " + fields)
     rows = collections.defaultdict(list)
     with open(name) as f:
         for line in f:
             m = row.search(line)
             if m:
-                rows[m.group(1)].append((float(m.group(2)), float(m.group(3))))
+                rows[m.group(1)].append(convert(m))
     return rows
+
+
+def load(name, run="path"):
+    """Per scene, (RMSE, share over 0.2) of each row of one run."""
+    return rows_of(name, run, r"([\d.]+) \| [\d.]+ % \| ([\d.]+) %", lambda m: (float(m.group(2)), float(m.group(3))))
 
 
 def mean(values):
@@ -51,14 +57,7 @@ def targets(name):
 
 def load_edges(name, run="path"):
     """Per scene, the last column (edges behind, %) of the rows of one run."""
-    row = re.compile(r"\| (\S+) \| " + re.escape(RUNS[run]) + r" \|.* ([\d.]+) % \|\s*$")
-    rows = collections.defaultdict(list)
-    with open(name) as f:
-        for line in f:
-            m = row.search(line)
-            if m:
-                rows[m.group(1)].append(float(m.group(2)))
-    return rows
+    return rows_of(name, run, r".* ([\d.]+) % \|\s*$", lambda m: float(m.group(2)))
 
 
 def edges(before_file, after_file):

@@ -91,28 +91,22 @@ TEST(Session, APathPlaysFrameByFrameOrOnTheClock) {
   ASSERT_EQ(path->last_frame(), 40.0);
   SessionInput in = small_input(scene, SessionMode::epi, true);
   in.path = path;
-  {  // frame by frame
-    SessionInput by_frame = in;
-    by_frame.settings.frame_limit = 3;
-    Session session(scene, by_frame);
-    ASSERT_TRUE(session.wait_for_frame(3, 60s));
+  // The path frame and camera of frame `n` of a session with `input` (the loop stops there).
+  auto shown_at = [&](SessionInput input, uint64_t n, double want) {
+    input.settings.frame_limit = n;
+    Session session(scene, input);
+    ASSERT_TRUE(session.wait_for_frame(n, 60s));
     SessionFrame f;
     ASSERT_TRUE(session.take_frame(0, f));
-    EXPECT_EQ(f.path_frame, 2.0);
-    EXPECT_EQ(f.camera.eye, path->camera_at(2.0).eye);
-  }
-  {  // on a clock started a second ago, at a million path frames a second: the first frame is at the end
-    SessionInput fast = in;
-    fast.settings.frame_limit = 1;
-    fast.path_rate = 1e6;
-    fast.path_clock_start = std::chrono::steady_clock::now() - 1s;
-    Session session(scene, fast);
-    ASSERT_TRUE(session.wait_for_frame(1, 60s));
-    SessionFrame f;
-    ASSERT_TRUE(session.take_frame(0, f));
-    EXPECT_EQ(f.path_frame, 40.0);
-    EXPECT_EQ(f.camera.eye, path->camera_at(40.0).eye);
-  }
+    EXPECT_EQ(f.path_frame, want);
+    EXPECT_EQ(f.camera.eye, path->camera_at(want).eye);
+  };
+  shown_at(in, 3, 2.0);  // frame by frame
+  // On a clock started a second ago, at a million path frames a second: the first frame is at the end.
+  SessionInput fast = in;
+  fast.path_rate = 1e6;
+  fast.path_clock_start = std::chrono::steady_clock::now() - 1s;
+  shown_at(fast, 1, 40.0);
   {  // at 100 path frames a second: each frame at most where the clock was when it was taken
     SessionInput clocked = in;
     clocked.path_rate = 100.0;
