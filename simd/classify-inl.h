@@ -21,6 +21,28 @@ namespace epi::simd {
 namespace HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 
+// The packed table entries (ClassifyRow::code_tables) of each lane's code: bits 0-31 in `low`,
+// 32-63 in `high`. Two gathers of 64-bit entries (one on the scalar target: two of 32 bits).
+template <class DU>
+HWY_INLINE void GatherCodeTables(DU du, const uint64_t* table, hn::Vec<DU> code, hn::Vec<DU>& low, hn::Vec<DU>& high) {
+  const hn::RebindToSigned<DU> di;
+#if HWY_TARGET == HWY_SCALAR
+  const uint32_t* words = reinterpret_cast<const uint32_t*>(table);  // little-endian: low word first
+  const auto twice = hn::BitCast(di, hn::ShiftLeft<1>(code));
+  low = hn::GatherIndex(du, words, twice);
+  high = hn::GatherIndex(du, words + 1, twice);
+#else
+  const hn::Half<decltype(di)> dh;
+  const hn::Repartition<int64_t, DU> di64;
+  const hn::Repartition<uint64_t, DU> du64;
+  const auto index = hn::BitCast(di, code);
+  const auto first = hn::GatherIndex(du64, table, hn::PromoteTo(di64, hn::LowerHalf(dh, index)));
+  const auto second = hn::GatherIndex(du64, table, hn::PromoteTo(di64, hn::UpperHalf(dh, index)));
+  low = hn::ConcatEven(du, hn::BitCast(du, second), hn::BitCast(du, first));
+  high = hn::ConcatOdd(du, hn::BitCast(du, second), hn::BitCast(du, first));
+#endif
+}
+
 // Lanes x .. x + N - 1 from pointers already offset to x; `valid` lanes are counted.
 template <class DU>
 HWY_INLINE void ClassifyLanes(DU du, const ClassifyRow& row, const uint8_t* top, const uint8_t* bottom,
@@ -64,9 +86,13 @@ HWY_INLINE void ClassifyLanes(DU du, const ClassifyRow& row, const uint8_t* top,
   const auto empty = hn::Eq(hn::And(count, hn::Set(du, ~1u)), zero);  // count <= 1
   auto simple = hn::And(hn::Eq(count, hn::Set(du, 2u)), hn::Ne(one_per_side, zero));
   const V pair_code = hn::Or(hn::ShiftLeft<5>(lo), hi);  // the code where simple
+  // The tables at the code where simple (before the centre lines' test, which only turns simple
+  // lanes complex: the entries of the lanes still simple after it are the same).
+  V sidedness, high;
+  GatherCodeTables(du, row.code_tables, hn::IfThenElseZero(simple, pair_code), sidedness, high);
   if (centre_h) {
     // A centre-line crossing off the chord: a corner inside the pixel, complex.
-    const V on_chord = hn::GatherIndex(du, row.centre_on_chord, hn::BitCast(di, hn::IfThenElseZero(simple, pair_code)));
+    const V on_chord = hn::And(high, hn::Set(du, 0xffffu));
     const V off_chord = hn::Or(hn::AndNot(on_chord, hn::PromoteTo(du, hn::LoadU(d8, centre_h))),
                                hn::AndNot(hn::ShiftRight<8>(on_chord), hn::PromoteTo(du, hn::LoadU(d8, centre_v))));
     simple = hn::And(simple, hn::Eq(off_chord, zero));
@@ -74,15 +100,13 @@ HWY_INLINE void ClassifyLanes(DU du, const ClassifyRow& row, const uint8_t* top,
   const auto complex = hn::AndNot(simple, hn::Not(empty));  // neither empty nor simple
   const V code = hn::IfThenElseZero(simple, pair_code);
   const V region = hn::And(hn::ShiftRight<10>(in_edge), hn::Set(du, 15u));
-  const V area = hn::GatherIndex(du, row.area, hn::BitCast(di, code));
-  const V sidedness = hn::GatherIndex(du, row.sidedness, hn::BitCast(di, code));
   const V side = hn::And(hn::Shr(sidedness, hn::ShiftLeft<1>(region)), hn::Set(du, 3u));
   // A simple pixel with a sample: its side decides usability and the primary region.
   const auto decided = hn::And(simple, sample);
   const auto ambiguous = hn::And(decided, hn::Eq(side, hn::Set(du, 2u)));
   const auto usable = hn::AndNot(ambiguous, sample);
   const auto by_side = hn::AndNot(ambiguous, decided);
-  const auto larger_b = hn::RebindMask(du, hn::Lt(hn::BitCast(di, area), hn::Set(di, 32768)));
+  const auto larger_b = hn::Ne(hn::And(high, hn::Set(du, 1u << 16)), zero);
   const auto primary_is_b = hn::Or(hn::And(by_side, hn::Eq(side, one)), hn::AndNot(by_side, larger_b));
   // Type: 2 + 2 * side pair + (primary is B) for simple pixels (geometry.h), 1 complex, 0 empty.
   const V l = hn::ShiftRight<3>(lo), h = hn::ShiftRight<3>(hi);

@@ -118,9 +118,9 @@ struct ClassifyRow {
   const uint8_t* centre_h;
   const uint8_t* centre_v;
   const uint16_t* in;          // the input edge words (sample bits)
-  const uint32_t* sidedness;   // EpiTables::sidedness, 1024 entries
-  const uint32_t* area;        // EpiTables::area_a widened to 32 bits, 1024 entries
-  const uint32_t* centre_on_chord;  // EpiTables::centre_on_chord widened to 32 bits, 1024 entries
+  // By edge code, 1024 entries: EpiTables::sidedness in bits 0-31, centre_on_chord in 32-47, and
+  // in bit 48 whether area_a < 32768 (region B the larger): one gather for the three tables.
+  const uint64_t* code_tables;
   uint16_t* edge;              // out: classified edge words
   uint8_t* types;              // out: pixel types
   int64_t counts[5];           // added to: empty, simple, complex, samples, ambiguous

@@ -88,17 +88,18 @@ struct RowPlane {
 size_t samples_plane(int w) { return size_t(w) + 2 * simd::kPad + 64; }
 size_t samples_stride(int w) { return 5 * samples_plane(w); }
 
-// The tables the vector kernels gather from, widened to 32 bits.
+// The tables the vector kernels gather from, widened and packed by edge code (simd/row_kernels.h).
 struct WideTables {
-  uint32_t area[1024], area_and_secondary[1024], centre_on_chord[1024];
+  uint32_t area_and_secondary[1024];
+  uint64_t classify[1024];
 };
 const WideTables& wide_tables() {
   static const WideTables tables = [] {
     const EpiTables& t = epi_tables();
     WideTables w{};
     for (int k = 0; k < 1024; ++k) {
-      w.area[k] = t.area_a[k], w.area_and_secondary[k] = t.area_a[k] | uint32_t(t.secondary_neighbour[k]) << 16;
-      w.centre_on_chord[k] = t.centre_on_chord[k];
+      w.area_and_secondary[k] = t.area_a[k] | uint32_t(t.secondary_neighbour[k]) << 16;
+      w.classify[k] = uint64_t(t.sidedness[k]) | uint64_t(t.centre_on_chord[k]) << 32 | uint64_t(t.area_a[k] < 32768) << 48;
     }
     return w;
   }();
@@ -182,7 +183,7 @@ void classify_stage(RowJob& j, int y) {
     simd::ClassifyRow row{j.width, &j.masks.top[j.masks.index(0, y)], &j.masks.top[j.masks.index(0, y + 1)],
                           &j.masks.left[j.masks.index(0, y)], centre ? &j.masks.centre_h[j.masks.index(0, y)] : nullptr,
                           centre ? &j.masks.centre_v[j.masks.index(0, y)] : nullptr, &j.in.edge[i0],
-                          epi_tables().sidedness, t.area, t.centre_on_chord, edge, types, {}};
+                          t.classify, edge, types, {}};
     j.kernels->classify(row);
     counts.empty += row.counts[0], counts.simple += row.counts[1], counts.complex += row.counts[2];
     counts.samples += row.counts[3], counts.ambiguous += row.counts[4];
