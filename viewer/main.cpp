@@ -26,7 +26,8 @@ int main(int argc, char** argv) {
   app.add_option("--path-rate", options.render.path_rate,
                  "Play the --camera-path at this many path frames per second of wall time, as a user would move, "
                  "instead of one path frame per rendered frame (docs/viewer.md, \"Paths on the clock\"). Default 0: off")
-      ->check(epi::cli::kFinite & CLI::Range(0.0, 1e6));
+      ->check(epi::cli::kFinite & CLI::Range(0.0, 1e6))
+      ->needs(app.get_option("--camera-path"));
   using epi::cli::kFinite;
   app.add_option("--ui-fps", options.ui_fps, "Window frame cap")->check(kFinite & CLI::Range(1.0, 1000.0))->capture_default_str();
   app.add_option("--max-fps", options.max_fps, "Frame-loop cap (0: as fast as it goes)")->check(kFinite & CLI::Range(0.0, 1000.0));

@@ -544,7 +544,7 @@ TEST(ViewerInput, BadScriptsAndOutputsFailBeforeAnyWindow) {
 // The viewer's own numeric flags refuse what is out of range or not a number, before any window.
 TEST(ViewerInput, BadViewerFlagsFailBeforeAnyWindow) {
   for (const std::string args : {"--render-scale 0", "--render-scale 1.5", "--render-scale nan", "--max-fps nan", "--max-fps -1",
-                                 "--ui-fps inf", "--ui-fps 0"}) {
+                                 "--ui-fps inf", "--ui-fps 0", "--path-rate 10", "--path-rate -1", "--path-rate nan"}) {
     const ProgramRun v = viewer_without_display(kCornell + " " + args);
     EXPECT_EQ(v.signal, 0) << args << "\n" << v.out;
     EXPECT_EQ(v.exit_code, 2) << args << "\n" << v.out;
