@@ -115,11 +115,11 @@ void edges_behind(const FrameRenderer& renderer, const RayScene& ray_scene, cons
     const Segment& s = pieces[k];
     const double length = std::hypot(s.x1 - s.x0, s.y1 - s.y0);
     const int samples = std::max(1, int(std::ceil(2.0 * length)));
+    const double step = length / samples;
     for (int j = 0; j < samples; ++j) {
       const double t = (j + 0.5) / samples;
       const double x = s.x0 + t * (s.x1 - s.x0), y = s.y0 + t * (s.y1 - s.y0);
       if (!(x >= 0.0 && y >= 0.0 && x < size && y < size)) continue;
-      const double step = length / samples;
       r.edge_length += step;
       const double edge_depth = 1.0 / (inv[k].x + t * (inv[k].y - inv[k].x));
       const Ray ray = frame.ray(float(x), float(y));
@@ -231,19 +231,6 @@ Run run(const Scene& scene, RayScene& ray_scene, const Shader& shader, const Opt
     return hit.hit && proj.depth > frame.project(ray.origin + hit.t * ray.direction).depth * 1.02f + 1e-3f;
   };
   r.rmse = display_rmse(image, reference);
-  if (const char* e = std::getenv("EPI_DBG_PX")) {  // DEBUG
-    int cx = 0, cy = 0;
-    std::sscanf(e, "%d,%d", &cx, &cy);
-    for (int y = cy - 3; y <= cy + 3; ++y) {
-      for (int x = cx - 3; x <= cx + 3; ++x) {
-        const size_t i = size_t(y) * size_t(o.size) + size_t(x);
-        if (drawn.point[i] < 0) { std::fprintf(stderr, "   .............. "); continue; }
-        const CachePoint& p = cache.points()[size_t(drawn.point[i])];
-        std::fprintf(stderr, " %c%u:%5.3f a%-3u e%u", hidden_at(i) ? '!' : ' ', p.object, drawn.depth[i], unsigned(p.age), unsigned(renderer.edge_pixels()[i]));
-      }
-      std::fprintf(stderr, "\n");
-    }
-  }
   const int n = o.size;
   // The causes as a picture: the frame dimmed, each pixel off by more than 0.1 coloured by cause
   // (hidden red, colour yellow, near hidden magenta, other blue).

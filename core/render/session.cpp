@@ -338,9 +338,9 @@ void Session::render_raytrace_pass(const SessionInput& input, bool restart) {
 void Session::run() {
   Clock::time_point next_frame = Clock::now();
   uint64_t last_hash = 0;
-  double path_frame = -1.0;  // the path frame of the input being rendered (-1: none)
   while (true) {
     SessionInput input;
+    double path_frame = -1.0;  // the path frame this input shows (-1: none)
     std::vector<PickRequest> picks;
     {
       std::unique_lock lock(input_mutex_);
@@ -359,7 +359,6 @@ void Session::run() {
       });
       if (stop_) return;
       input = input_;
-      path_frame = -1.0;
       if (input.path) {  // this frame's keys
         const double f =
             input.path_rate > 0.0
