@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -19,7 +20,7 @@ namespace epi {
 namespace {
 
 // Random streams of one request, one per use.
-enum Stream : uint64_t { kStreamArea = 1, kStreamGlossy = 2, kStreamPath = 3 };
+enum Stream : uint64_t { kStreamArea = 1, kStreamGlossy = 2, kStreamPath = 3, kStreamLightChoice = 5 };
 
 float max_abs(const glm::vec3& p) { return std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}); }
 float max_component(const glm::vec3& c) { return std::max({c.x, c.y, c.z}); }
@@ -50,6 +51,25 @@ float power_heuristic(float a, float b) {
 }
 
 // Stratum j of n on a sqrt(n) x sqrt(n) grid (random beyond the grid).
+// The light choices of a hit's n area-light samples, stratified as the points on the lights are:
+// sample j draws its choice from stratum (step j + offset) mod n of [0, 1), with `offset` random
+// per hit (each sample's choice then uniform on [0, 1) and independent of its point on the light,
+// so the estimate stays unbiased) and `step` coprime to n near n (sqrt 5 - 1) / 2 (consecutive
+// samples, whose points lie in neighbouring strata, choose far apart). Each light then gets its
+// share of the samples to within one, where independent choices split them at random
+// (docs/render.md, "Light choice").
+struct LightChoiceStrata {
+  uint32_t n = 1, step = 1, offset = 0;
+  LightChoiceStrata(int samples, uint32_t random) : n(uint32_t(std::max(samples, 1))), offset(random % n) {
+    step = std::max(1u, uint32_t(std::lround(double(n) * 0.6180339887)));
+    while (std::gcd(step, n) != 1) ++step;
+  }
+  float choice(int j, float jitter) const {
+    const uint32_t stratum = uint32_t((uint64_t(step) * uint64_t(j) + offset) % n);
+    return std::min((float(stratum) + jitter) / float(n), 0x1.fffffep-1f);
+  }
+};
+
 glm::vec2 stratified(int j, int n, Rng& rng) {
   int m = int(std::sqrt(double(n)));
   float a = rng.uniform(), b = rng.uniform();
@@ -335,14 +355,19 @@ struct Shader::Tracer {
           if (!blocked[i]) add(area, values[i]);
         batched = 0;
       };
+      // With one area light the choice is no choice: nothing drawn for it (the same bits as before).
+      const bool choose = scene.area_light_cdf().size() > 1 && n > 1;
+      const LightChoiceStrata choices(n, !choose ? 0u : stream ? stream->next() : Rng(key, kStreamLightChoice, 0).next());
       for (int j = 0; j < n; ++j) {
         Rng own = stream ? Rng(0) : Rng(key, kStreamArea, uint64_t(j));
         Rng& rng = stream ? *stream : own;
         glm::vec2 u = stratified(j, n, rng);
         const MisCounts mis{n, brdf_samples, specular_only};
+        const float jitter = rng.uniform();
+        const float u0 = choose ? choices.choice(j, jitter) : jitter;
         if (!packets) {
-          add(area, area_sample(s, brdf, rng.uniform(), u, mis));
-        } else if (AreaSample a; prepare_area_sample(s, brdf, rng.uniform(), u, mis, a)) {
+          add(area, area_sample(s, brdf, u0, u, mis));
+        } else if (AreaSample a; prepare_area_sample(s, brdf, u0, u, mis, a)) {
           shadows[batched] = a.shadow, values[batched] = a.value;
           if (++batched == 16) flush();
         }

@@ -160,6 +160,54 @@ TEST(Analytic, SquareAreaLightMatchesLambertsFormula) {
   }
 }
 
+// Two small area lights of equal power, one near the shaded point and one far: each hit's
+// light choices are stratified (shader.cpp, LightChoiceStrata), so with two samples every hit
+// takes one of each light and the estimate hardly varies, where independent choices would give
+// two near samples, two far ones or one of each (a spread of about half the mean); and the
+// estimate stays unbiased (its mean is Lambert's formula summed over the lights) for sample
+// counts that do and do not divide evenly between the lights.
+TEST(Analytic, LightChoicesAreStratifiedAndUnbiased) {
+  Scene scene;
+  add_floor(scene);
+  const float radiance = 50.0f, half = 0.1f;
+  uint32_t emitter = test::add_material(scene, glm::vec3(0.0f), 0.0f, 1.0f, glm::vec3(radiance));
+  const glm::vec2 centres[2] = {{-1.0f, 0.0f}, {1.5f, 0.0f}};
+  std::vector<std::vector<glm::dvec3>> squares;
+  for (const glm::vec2 c : centres) {
+    uint32_t light = test::add_object(scene, test::quad_mesh({c.x - half, c.y - half, 1}, {0, 2 * half, 0}, {2 * half, 0, 0}, emitter), "panel");
+    test::add_area_light(scene, light);
+    squares.push_back({{c.x - half, c.y - half, 1}, {c.x + half, c.y - half, 1}, {c.x + half, c.y + half, 1}, {c.x - half, c.y + half, 1}});
+  }
+  RayScene rays(scene);
+  ASSERT_EQ(rays.area_light_cdf().size(), 2u);
+  const glm::vec3 target(-0.8f, 0.1f, 0.0f);
+  const View view{test::look({-0.8f, -3.0f, 2.0f}, target), 64, 64};
+  const Projection p = project(view, target);
+  for (const int samples : {2, 3, 16}) {
+    ShaderSettings settings = lambert_settings();
+    settings.area_light_samples = samples;
+    const Shader shader(rays, settings);
+    double sum = 0.0, sum2 = 0.0;
+    const int n = 400;
+    for (int k = 0; k < n; ++k) {
+      ShadeRequest request{0, p.pixel.x + 0.002f * float(k % 20), p.pixel.y + 0.002f * float(k / 20)};  // other streams
+      ShadeBatch batch;
+      shader.shade(view, std::span(&request, 1), batch);
+      const ShadeResult& r = batch.results.at(0);
+      ASSERT_TRUE(r.hit);
+      double expected = 0.0;
+      for (const auto& square : squares) expected += kAlbedo / M_PI * polygon_irradiance(square, glm::dvec3(r.position), {0, 0, 1}, radiance);
+      const double v = r.color.x / expected;  // relative to the point's own closed form
+      sum += v, sum2 += v * v;
+    }
+    const double mean = sum / n, spread = std::sqrt(std::max(0.0, sum2 / n - mean * mean));
+    EXPECT_NEAR(mean, 1.0, 0.02) << samples << " samples";
+    // An even count splits evenly (independent choices: a spread of about 0.5 with two samples);
+    // three give one light two samples and the other one, which light varying by hit.
+    if (samples % 2 == 0) EXPECT_LT(spread, 0.05) << samples << " samples, half of them on each light";
+  }
+}
+
 TEST(Analytic, EmissionSeenDirectly) {
   Scene scene;
   uint32_t emitter = test::add_material(scene, glm::vec3(0.0f), 0.0f, 1.0f, glm::vec3(1.0f, 2.0f, 3.0f));
